@@ -9,7 +9,7 @@ SYS_PY := /usr/bin/python3
 VENV := .venv
 PY := $(VENV)/bin/python
 DEB_PKGS := python3-dolfinx python3-petsc4py python3-mpi4py python3-gmsh python3-meshio \
-            python3-numba python3-matplotlib python3-pytest python3-venv
+            python3-numba python3-matplotlib python3-pytest python3-venv python3-h5py
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 export NUMBA_CACHE_DIR ?= $(CURDIR)/.cache/numba
 export OMP_WAIT_POLICY ?= passive

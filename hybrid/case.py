@@ -1,0 +1,125 @@
+"""Glue that makes a case script runnable as ``python cases/x.py`` and ``hybrid run``.
+
+A case script defines a dataclass ``Parameters`` (each field documented with its unit) and
+``main(out=..., **overrides) -> dict``; ``--set name=value`` overrides one field.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import importlib.util
+import sys
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from types import ModuleType
+from typing import Any
+
+__all__ = ["CaseError", "parse_overrides", "load_case", "run_case", "case_arguments"]
+
+
+class CaseError(ValueError):
+    """A case script or one of its overrides is invalid."""
+
+
+def _convert(field: dataclasses.Field, text: str) -> Any:
+    kind = field.type if isinstance(field.type, type) else str(field.type)
+    kind_name = getattr(kind, "__name__", str(kind))
+    try:
+        if kind_name == "bool":
+            if text.lower() in ("1", "true", "yes", "on"):
+                return True
+            if text.lower() in ("0", "false", "no", "off"):
+                return False
+            raise ValueError(text)
+        if kind_name == "int":
+            return int(text)
+        if kind_name == "float":
+            return float(text)
+    except ValueError:
+        raise CaseError(f"--set {field.name}={text}: expected a {kind_name}") from None
+    return text
+
+
+def parse_overrides(parameters: type, items: Sequence[str]) -> dict[str, Any]:
+    """Turn ``["name=value", ...]`` into typed keyword overrides of the ``parameters`` class."""
+    fields = {f.name: f for f in dataclasses.fields(parameters)}
+    out: dict[str, Any] = {}
+    for item in items:
+        if "=" not in item:
+            raise CaseError(f"--set expects name=value, got '{item}'")
+        name, text = item.split("=", 1)
+        name = name.strip()
+        if name not in fields:
+            raise CaseError(f"unknown case parameter '{name}'; known: {', '.join(fields)}")
+        out[name] = _convert(fields[name], text.strip())
+    return out
+
+
+def load_case(path: str | Path) -> ModuleType:
+    """Import a case script by path; it must define ``main`` and ``Parameters``."""
+    path = Path(path)
+    if not path.is_file():
+        raise CaseError(f"case script '{path}' not found")
+    spec = importlib.util.spec_from_file_location(f"hybrid_case_{path.stem}", path)
+    assert spec is not None and spec.loader is not None
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = module
+    spec.loader.exec_module(module)
+    for name in ("main", "Parameters"):
+        if not hasattr(module, name):
+            raise CaseError(f"case script '{path}' defines no '{name}'")
+    return module
+
+
+def case_arguments(parser: argparse.ArgumentParser) -> None:
+    """The options every case accepts."""
+    parser.add_argument("--out", help="output folder (default: results/<case name>)")
+    parser.add_argument("--set", dest="overrides", action="append", default=[],
+                        metavar="NAME=VALUE", help="override a case parameter (repeatable)")
+    parser.add_argument("--list", action="store_true", help="list the case's parameters")
+
+
+def describe(parameters: type) -> str:
+    """One line per parameter: name, default, type."""
+    lines = []
+    for f in dataclasses.fields(parameters):
+        default = f.default if f.default is not dataclasses.MISSING else "(required)"
+        kind = getattr(f.type, "__name__", f.type)
+        lines.append(f"  {f.name} = {default!r}  ({kind})")
+    return "\n".join(lines)
+
+
+def run_case(main: Callable[..., dict], parameters: type, argv: Sequence[str] | None = None,
+             name: str | None = None) -> int:
+    """Command-line entry of a case script."""
+    parser = argparse.ArgumentParser(description=(main.__doc__ or "").strip().split("\n")[0])
+    case_arguments(parser)
+    args = parser.parse_args(argv)
+    return execute(main, parameters, args, name)
+
+
+def execute(main: Callable[..., dict], parameters: type, args: argparse.Namespace,
+            name: str | None = None) -> int:
+    """Run ``main`` with parsed options; report where the results are (rank 0)."""
+    from mpi4py import MPI
+
+    if args.list:
+        print(describe(parameters))
+        return 0
+    overrides = parse_overrides(parameters, args.overrides)
+    kwargs: dict[str, Any] = dict(overrides)
+    if args.out:
+        kwargs["out"] = args.out
+    summary = main(**kwargs)
+    if MPI.COMM_WORLD.rank == 0:
+        out = summary.get("out", args.out) if isinstance(summary, dict) else args.out
+        checks = summary.get("checks", {}) if isinstance(summary, dict) else {}
+        for key, check in checks.items():
+            ref = "" if check.reference is None else f" (reference {check.reference:.6g}"
+            ref += "" if check.reference is None else (
+                f", error {100 * check.error:.3g} %" + (
+                    "" if check.passed is None else (", pass)" if check.passed else ", FAIL)")))
+            print(f"{key}: {check.computed:.6g} {check.unit}{ref}")
+        print(f"results written to {out}")
+    return 0

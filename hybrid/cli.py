@@ -1,0 +1,96 @@
+"""The ``hybrid`` command: info, run, bench."""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import os
+import shutil
+import sys
+from collections.abc import Sequence
+
+import hybrid
+
+__all__ = ["main"]
+
+
+def _version(module: str) -> str:
+    try:
+        mod = importlib.import_module(module)
+    except ImportError as err:
+        return f"missing ({err})"
+    if module == "petsc4py":
+        from petsc4py import PETSc
+
+        return f"{mod.__version__} (PETSc {'.'.join(map(str, PETSc.Sys.getVersion()))})"
+    return str(getattr(mod, "__version__", "?"))
+
+
+def info() -> dict[str, str]:
+    """Versions and runtime facts users report with a bug."""
+    facts = {"hybrid": hybrid.__version__, "python": sys.version.split()[0],
+             "executable": sys.executable}
+    for module in ("dolfinx", "ufl", "basix", "ffcx", "petsc4py", "mpi4py", "numba", "numpy",
+                   "gmsh", "meshio", "matplotlib", "tqdm"):
+        facts[module] = _version(module)
+    import numba
+    from mpi4py import MPI
+
+    facts["numba threads"] = str(numba.config.NUMBA_NUM_THREADS)
+    facts["numba threading layer (configured)"] = str(numba.config.THREADING_LAYER)
+    facts["numba cache dir"] = os.environ.get("NUMBA_CACHE_DIR", "")
+    facts["MPI size"] = str(MPI.COMM_WORLD.size)
+    facts["MPI library"] = MPI.Get_library_version().splitlines()[0].strip()
+    facts["ffmpeg"] = shutil.which("ffmpeg") or "not found (animations as GIF only)"
+    return facts
+
+
+def _cmd_info(args: argparse.Namespace) -> int:
+    facts = info()
+    width = max(map(len, facts))
+    for key, value in facts.items():
+        print(f"{key:<{width}}  {value}")
+    return 0
+
+
+def _cmd_run(args: argparse.Namespace) -> int:
+    from hybrid.case import execute, load_case
+
+    module = load_case(args.case)
+    return execute(module.main, module.Parameters, args)
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``hybrid`` console script."""
+    from hybrid.case import case_arguments
+
+    parser = argparse.ArgumentParser(prog="hybrid", description=hybrid.__doc__.split("\n")[0])
+    sub = parser.add_subparsers(dest="command", required=True)
+    sub.add_parser("info", help="versions, threads, MPI, ffmpeg").set_defaults(func=_cmd_info)
+    run = sub.add_parser("run", help="run a case script: hybrid run cases/x.py --out DIR")
+    run.add_argument("case", help="path of the case script")
+    case_arguments(run)
+    run.set_defaults(func=_cmd_run)
+    try:
+        from hybrid import bench
+    except ImportError:  # the discrete engine is optional until it lands
+        bench = None
+    if bench is not None:
+        b = sub.add_parser("bench", help="discrete-engine throughput benchmark")
+        bench.add_arguments(b)
+        b.set_defaults(func=bench.run)
+    args = parser.parse_args(argv)
+    try:
+        return int(args.func(args) or 0)
+    except ValueError as err:
+        # input errors (materials, geometry, case overrides) are reported, not traced back
+        print(f"hybrid: error: {err}", file=sys.stderr)
+        from mpi4py import MPI
+
+        if MPI.COMM_WORLD.size > 1:  # the other ranks would wait for this one forever
+            MPI.COMM_WORLD.Abort(2)
+        return 2
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

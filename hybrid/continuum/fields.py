@@ -1,0 +1,173 @@
+"""UFL building blocks of the plane-strain continuum: spaces, strain, stress, BCs, loads.
+
+Voigt order (xx, yy, zz, xy) with engineering shear strain; tension positive; kPa, m.
+The displacement space is Lagrange of ``degree`` (1 or 2) on the first-order gmsh mesh, so
+cell vertices stay the geometry the discrete engine takes over.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import basix
+import numpy as np
+import ufl
+from dolfinx import fem
+from petsc4py import PETSc
+
+from hybrid.model import Displacement, Fixed, Model, Pressure, Roller, Traction
+
+__all__ = ["Discretisation", "strain", "elastic_stress", "MaterialFields", "boundary_conditions",
+           "surface_load", "body_force"]
+
+
+def quadrature_degree(cell_type: str, degree: int) -> int:
+    """Quadrature degree exact for the stiffness of affine cells of the given order.
+
+    Triangles: 1 point (P1), 3 points (P2). Quadrilaterals: 2x2 Gauss (Q1), 3x3 Gauss (Q2).
+    """
+    if cell_type == "triangle":
+        return 2 * (degree - 1) if degree > 1 else 1
+    return 2 * degree
+
+
+@dataclass
+class Discretisation:
+    """Displacement space, quadrature rule and integration measures of one mesh.
+
+    Attributes:
+        degree: Lagrange order of the displacement (1 or 2).
+        V: vector displacement space.
+        quadrature_degree: degree of the quadrature rule (FFCx "default" scheme).
+        points, weights: the rule on the reference cell (nqp, 2), (nqp,).
+        dx, ds: integration measures (ds carries the facet tags).
+    """
+
+    degree: int
+    V: Any
+    quadrature_degree: int
+    points: np.ndarray
+    weights: np.ndarray
+    dx: Any
+    ds: Any
+
+    @classmethod
+    def create(cls, model: Model, degree: int = 2) -> Discretisation:
+        if degree not in (1, 2):
+            raise ValueError(f"displacement degree must be 1 or 2, not {degree}")
+        mesh = model.mesh
+        V = fem.VectorFunctionSpace(mesh.mesh, ("CG", degree))
+        qdeg = quadrature_degree(mesh.cell_type, degree)
+        basix_cell = (basix.CellType.quadrilateral if mesh.is_quad else basix.CellType.triangle)
+        points, weights = basix.make_quadrature(basix_cell, qdeg)
+        dx = ufl.Measure("dx", domain=mesh.mesh,
+                         metadata={"quadrature_degree": qdeg, "quadrature_scheme": "default"})
+        ds = ufl.Measure("ds", domain=mesh.mesh, subdomain_data=mesh.facet_tags)
+        return cls(degree, V, qdeg, np.asarray(points), np.asarray(weights), dx, ds)
+
+    @property
+    def num_points(self) -> int:
+        """Quadrature points per cell."""
+        return len(self.weights)
+
+
+def strain(u: Any) -> Any:
+    """Plane-strain small strain in Voigt form (exx, eyy, ezz = 0, gamma_xy)."""
+    return ufl.as_vector([u[0].dx(0), u[1].dx(1), 0.0, u[0].dx(1) + u[1].dx(0)])
+
+
+def elastic_stress(eps: Any, lam: Any, mu: Any) -> Any:
+    """Isotropic Hooke's law on Voigt vectors: sigma = lam tr(eps) m + 2 mu eps.
+
+    The shear component is mu gamma_xy (engineering shear strain).
+    """
+    tr = eps[0] + eps[1] + eps[2]
+    return ufl.as_vector([lam * tr + 2 * mu * eps[0], lam * tr + 2 * mu * eps[1],
+                          lam * tr + 2 * mu * eps[2], mu * eps[3]])
+
+
+@dataclass
+class MaterialFields:
+    """Per-cell (DG0) material constants as dolfinx functions: lambda, mu [kPa], gamma [kN/m3]."""
+
+    lam: Any
+    mu: Any
+    unit_weight: Any
+    material_id: Any
+
+    @classmethod
+    def create(cls, model: Model) -> MaterialFields:
+        W = fem.FunctionSpace(model.mesh.mesh, ("DG", 0))
+        out = []
+        for attribute in ("lame_lambda", "shear_modulus", "unit_weight"):
+            f = fem.Function(W, name=attribute)
+            _set_cellwise(f, model.cell_property(attribute))
+            out.append(f)
+        ids = fem.Function(W, name="material")
+        _set_cellwise(ids, model.material_ids().astype(float))
+        return cls(*out, ids)
+
+
+def _set_cellwise(f: Any, owned_values: np.ndarray) -> None:
+    """Write values of the owned cells into a DG0 function and update the ghosts."""
+    n = len(owned_values)
+    dofs = f.function_space.dofmap.list.array.reshape(-1, 1)[:n, 0]
+    f.x.array[dofs] = owned_values
+    f.x.scatter_forward()
+
+
+def body_force(fields: MaterialFields, gravity: float | Any) -> Any:
+    """Self-weight body force (0, -gamma) [kN/m3] times ``gravity`` (0..1, switch-on factor)."""
+    return ufl.as_vector([0.0, -gravity * fields.unit_weight])
+
+
+def surface_load(model: Model, v: Any, ds: Any, scale: float | Any = 1.0) -> Any:
+    """Virtual work of the model's pressures and tractions [kN/m] (0 if there are none)."""
+    n = ufl.FacetNormal(model.mesh.mesh)
+    work = 0
+    for load in model.loads:
+        tag = model.mesh.facet_tag(load.boundary)
+        if isinstance(load, Pressure):
+            work += -scale * load.value * ufl.dot(n, v) * ds(tag)
+        elif isinstance(load, Traction):
+            work += scale * (load.tx * v[0] + load.ty * v[1]) * ds(tag)
+    return work
+
+
+@dataclass
+class BoundaryConditions:
+    """Dirichlet conditions and the constants of prescribed displacements (for stepping)."""
+
+    bcs: list[Any]
+    prescribed: list[tuple[Any, float]]  # (fem.Constant, full value [m])
+
+    def scale(self, factor: float) -> None:
+        """Set every prescribed displacement to ``factor`` times its full value."""
+        for const, value in self.prescribed:
+            const.value = factor * value
+
+
+def boundary_conditions(model: Model, V: Any) -> BoundaryConditions:
+    """Dirichlet BCs of the model's supports on the displacement space ``V``."""
+    mesh = model.mesh
+    bcs: list[Any] = []
+    prescribed: list[tuple[Any, float]] = []
+    for support in model.supports:
+        facets = mesh.facets(support.boundary)
+        if isinstance(support, Fixed):
+            components = {0: 0.0, 1: 0.0}
+        elif isinstance(support, Roller):
+            components = {0 if support.direction == "x" else 1: 0.0}
+        elif isinstance(support, Displacement):
+            components = {i: val for i, val in enumerate((support.ux, support.uy))
+                          if val is not None}
+        else:  # pragma: no cover - the Model type union is closed
+            raise TypeError(f"unknown support {support!r}")
+        for comp, value in components.items():
+            dofs = fem.locate_dofs_topological(V.sub(comp), 1, facets)
+            const = fem.Constant(mesh.mesh, PETSc.ScalarType(value))
+            bcs.append(fem.dirichletbc(const, dofs, V.sub(comp)))
+            if value != 0.0:
+                prescribed.append((const, float(value)))
+    return BoundaryConditions(bcs, prescribed)

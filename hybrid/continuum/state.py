@@ -1,0 +1,94 @@
+"""The continuum state: displacements and quadrature-point stress and plastic state."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import ufl
+from dolfinx import fem
+
+from hybrid.continuum.fields import Discretisation
+from hybrid.continuum.probe import evaluate
+from hybrid.continuum.quadrature import QuadratureSpace, evaluate_at_points, project
+from hybrid.model import Model
+
+__all__ = ["ContinuumState"]
+
+
+@dataclass
+class ContinuumState:
+    """A converged continuum state (what the handover and the outputs read).
+
+    Attributes:
+        model: the problem.
+        disc: displacement space and quadrature rule.
+        u: displacement [m] (dolfinx Function).
+        stress: Cauchy stress at quadrature points (n_owned_cells, nqp, 4) [kPa],
+            (xx, yy, zz, xy), tension positive.
+        plastic_strain: accumulated equivalent plastic strain (n_owned_cells, nqp) [-].
+        yielded: 1 where the point is on the yield surface at the last step (n_owned_cells, nqp).
+        velocity: nodal velocities for a dynamic start (zero after a static solve) [m/s].
+        info: solver figures (iterations, load factors, timings).
+    """
+
+    model: Model
+    disc: Discretisation
+    u: Any
+    stress: np.ndarray
+    plastic_strain: np.ndarray
+    yielded: np.ndarray
+    info: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def mesh(self) -> Any:
+        return self.model.mesh.mesh
+
+    @property
+    def comm(self) -> Any:
+        return self.model.mesh.comm
+
+    @property
+    def velocity(self) -> np.ndarray:
+        return np.zeros_like(self.u.x.array)
+
+    def cell_stress(self) -> np.ndarray:
+        """Area-weighted mean stress of every owned cell (n_owned_cells, 4) [kPa]."""
+        return self._cell_mean(self.stress)
+
+    def cell_plastic_strain(self) -> np.ndarray:
+        """Area-weighted mean plastic strain of every owned cell (n_owned_cells,)."""
+        return self._cell_mean(self.plastic_strain[..., None])[:, 0]
+
+    def cell_displacement(self) -> np.ndarray:
+        """Area-weighted mean displacement of every owned cell (n_owned_cells, 2) [m]."""
+        return self._cell_mean(evaluate_at_points(self.disc, self.u))
+
+    def yielded_cells(self, threshold: float = 0.0) -> np.ndarray:
+        """Owned cells with a yielded point or mean plastic strain above ``threshold``."""
+        return np.flatnonzero(np.any(self.yielded > 0, axis=1)
+                              | (self.cell_plastic_strain() > threshold))
+
+    def _cell_mean(self, values: np.ndarray) -> np.ndarray:
+        jac = evaluate_at_points(self.disc, abs(ufl.JacobianDeterminant(self.mesh)))[..., 0]
+        w = jac * self.disc.weights[None, :]
+        return np.einsum("cq,cqk->ck", w, values) / w.sum(axis=1)[:, None]
+
+    def stress_function(self) -> Any:
+        """Stress projected on discontinuous Lagrange of degree - 1 (DG0 for degree 1) [kPa]."""
+        space = QuadratureSpace(self.disc, (4,))
+        q = space.function("stress_q")
+        space.assign(q, self.stress)
+        target = fem.VectorFunctionSpace(self.mesh, ("DG", self.disc.degree - 1), dim=4)
+        out = project(self.disc, q, target)
+        out.name = "stress"
+        return out
+
+    def displacement_at(self, points: np.ndarray) -> np.ndarray:
+        """Displacement (n, 2) [m] at points (n, 2) [m] (same on every MPI rank)."""
+        return evaluate(self.u, np.atleast_2d(points))
+
+    def stress_at(self, points: np.ndarray) -> np.ndarray:
+        """Stress (n, 4) [kPa] at points (n, 2) [m] from :meth:`stress_function`."""
+        return evaluate(self.stress_function(), np.atleast_2d(points))

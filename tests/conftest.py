@@ -1,0 +1,32 @@
+"""Shared test helpers: load case scripts and gmsh builders by path."""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+CASES = ROOT / "cases"
+MESHES = ROOT / "meshes"
+PYTHON = sys.executable
+
+os.environ.setdefault("MPLBACKEND", "Agg")
+
+
+@pytest.fixture
+def case():
+    """Return a loader: case("flexible_footing") -> the imported case module."""
+    from hybrid.case import load_case
+
+    return lambda name: load_case(CASES / f"{name}.py")
+
+
+@pytest.fixture
+def builder():
+    """Return a loader: builder("block") -> the gmsh build function of meshes/block.py."""
+    from hybrid.geometry import load_builder
+
+    return lambda name: load_builder(MESHES / f"{name}.py")
