@@ -23,8 +23,12 @@ class CaseError(ValueError):
 
 
 def _convert(field: dataclasses.Field, text: str) -> Any:
-    kind = field.type if isinstance(field.type, type) else str(field.type)
-    kind_name = getattr(kind, "__name__", str(kind))
+    """Convert ``text`` to the field's annotated type (bool, int, float, str, optional None)."""
+    kind = field.type if isinstance(field.type, str) else getattr(field.type, "__name__", "")
+    options = [k.strip() for k in str(kind).split("|")]
+    if "None" in options and text.lower() == "none":
+        return None
+    kind_name = next((k for k in options if k != "None"), "str")
     try:
         if kind_name == "bool":
             if text.lower() in ("1", "true", "yes", "on"):

@@ -1,0 +1,441 @@
+"""Mohr-Coulomb elasto-plastic continuum on dolfinx: incremental loading with Newton.
+
+Each load step solves  R(Du) = int sigma(Du) : eps(v) dx - lambda f_ext(v) = 0  for the
+displacement increment Du of the step. ``sigma`` is computed at the quadrature points by the
+shared kernel (:mod:`hybrid.constitutive.mohr_coulomb`) from the converged stress of the
+previous step and the strain increment eps(Du); its consistent tangent forms the Jacobian.
+
+Globalisation, for non-associated flow (psi < phi) where plain Newton stalls:
+  * a backtracking line search on the residual norm (step halved up to ``line_search`` times);
+  * adaptive step cutting: a step that does not converge in ``max_iterations`` is restarted
+    with half the increment, down to ``min_increment``; then the structure is taken as
+    collapsed and the analysis stops with the last converged state (collapse is a result).
+Convergence: ||R|| <= ``tolerance`` max(||f_ref||, 1) on the free dofs, where f_ref is the
+internal force vector of the current stress state (scale-free).
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import ufl
+from dolfinx import fem, la
+from dolfinx.fem import petsc as fem_petsc
+from mpi4py import MPI
+from petsc4py import PETSc
+
+from hybrid.constitutive.mohr_coulomb import mohr_coulomb_update
+from hybrid.continuum.fields import (
+    Discretisation,
+    MaterialFields,
+    body_force,
+    boundary_conditions,
+    strain,
+    surface_load,
+)
+from hybrid.continuum.quadrature import QuadratureSpace, evaluate_at_points
+from hybrid.continuum.solver import lu_solver
+from hybrid.continuum.state import ContinuumState
+from hybrid.materials import Material
+from hybrid.model import Model
+
+__all__ = ["NewtonOptions", "PlasticSolver", "StepRecord", "material_table"]
+
+log = logging.getLogger(__name__)
+
+_NO_YIELD = 1e30  # cohesion and tension cut-off of a material that stays elastic [kPa]
+
+
+def material_table(materials: Sequence[Material], strength_factor: float = 1.0) -> np.ndarray:
+    """Rows [K, G, c, sin phi, cos phi, sin psi, t] of the kernel, strength divided by F."""
+    rows = []
+    for m in materials:
+        if m.is_plastic:
+            rows.append(m.weakened(strength_factor).mohr_coulomb_row()
+                        if strength_factor != 1.0 else m.mohr_coulomb_row())
+        else:
+            rows.append((m.bulk_modulus, m.shear_modulus, _NO_YIELD, 0.0, 1.0, 0.0, _NO_YIELD))
+    return np.array(rows, dtype=float)
+
+
+@dataclass(frozen=True)
+class NewtonOptions:
+    """Newton settings (see the module docstring for the criteria)."""
+
+    tolerance: float = 1e-8
+    max_iterations: int = 25
+    line_search: int = 4
+    min_increment: float = 1e-3
+    max_increment: float | None = None
+    elastic_iterations: int = 300
+
+    def __post_init__(self) -> None:
+        if not 0 < self.tolerance < 1:
+            raise ValueError(f"Newton tolerance {self.tolerance} must be in (0, 1)")
+        if self.max_iterations < 1:
+            raise ValueError("Newton max_iterations must be >= 1")
+
+
+@dataclass
+class StepRecord:
+    """One converged load step: factor, iterations, residual history, monitored values."""
+
+    load_factor: float
+    iterations: int
+    residuals: list[float]
+    monitors: dict[str, float] = field(default_factory=dict)
+
+
+class PlasticSolver:
+    """Incremental elasto-plastic analysis of a :class:`~hybrid.model.Model`.
+
+    The model's surface loads and prescribed displacements are multiplied by the load
+    factor lambda; self-weight is a separate factor (``gravity``) switched on by
+    :meth:`apply_gravity`. Cells can be switched off (staged construction) with
+    :meth:`set_active`.
+    """
+
+    def __init__(self, model: Model, *, degree: int = 2,
+                 options: NewtonOptions | None = None) -> None:
+        self.model = model
+        self.options = options or NewtonOptions()
+        self.disc = disc = Discretisation.create(model, degree)
+        self.fields = MaterialFields.create(model)
+        V = disc.V
+        self.u = fem.Function(V, name="displacement")  # total displacement [m]
+        self.Du = fem.Function(V, name="increment")  # increment of the current step [m]
+        self.delta = fem.Function(V)
+        self.bc = boundary_conditions(model, V)
+        self.sspace = QuadratureSpace(disc, (4,))
+        self.tspace = QuadratureSpace(disc, (4, 4))
+        self.stress_q = self.sspace.function("stress")
+        self.tangent_q = self.tspace.function("tangent")
+        n, nqp = self.sspace.num_cells, disc.num_points
+        self.npoints = n * nqp
+        self.stress = np.zeros((self.npoints, 4))  # converged stress [kPa]
+        self.plastic_strain = np.zeros(self.npoints)
+        self.yielded = np.zeros(self.npoints, dtype=np.int8)
+        self._trial = (np.zeros((self.npoints, 4)), np.zeros((self.npoints, 4, 4)),
+                       np.zeros(self.npoints), np.zeros(self.npoints, dtype=np.int8))
+        materials = [model.materials[k] for k in model.material_names]
+        self.materials = materials
+        self.table = material_table(materials)
+        self.point_material = np.repeat(model.material_ids(), nqp).astype(np.int64)
+        self.active = np.ones(n, dtype=bool)
+        self.load_factor = 0.0
+        self.gravity_factor = 0.0
+        self.history: list[StepRecord] = []
+        self.monitors: dict[str, Callable[[], float]] = {}
+
+        v, w = ufl.TestFunction(V), ufl.TrialFunction(V)
+        self._lam = fem.Constant(V.mesh, PETSc.ScalarType(0.0))
+        self._grav = fem.Constant(V.mesh, PETSc.ScalarType(0.0))
+        self._active_fn = fem.Function(fem.FunctionSpace(V.mesh, ("DG", 0)), name="active")
+        self._active_fn.x.array[:] = 1.0
+        external = ufl.inner(body_force(self.fields, self._grav) * self._active_fn, v) * disc.dx
+        loads = surface_load(model, v, disc.ds, self._lam)
+        if loads != 0:
+            external = external + loads
+        self._internal_form = fem.form(ufl.inner(self.stress_q, strain(v)) * disc.dx)
+        self._residual_form = fem.form(ufl.inner(self.stress_q, strain(v)) * disc.dx - external)
+        self._jacobian_form = fem.form(
+            ufl.inner(ufl.dot(self.tangent_q, strain(w)), strain(v)) * disc.dx)
+        self._strain_expr = fem.Expression(strain(self.Du), disc.points)
+        self._cells = np.arange(n, dtype=np.int32)
+        self.A = fem_petsc.create_matrix(self._jacobian_form)
+        self.b = fem_petsc.create_vector(self._residual_form)
+        self.ksp = lu_solver(V.mesh.comm, self.A)
+        self._inactive_bcs: list[Any] = []
+        self.iterations_total = 0
+        self.wall_time = 0.0
+        self._last_increment: tuple[np.ndarray, float] | None = None
+
+    # --- constitutive update -------------------------------------------------------------
+    def _update_stress(self, want_tangent: bool = True) -> None:
+        """Kernel call: trial stress/tangent from the converged state and eps(Du)."""
+        deps = self._strain_expr.eval(self._cells).reshape(self.npoints, 4)
+        stress, tangent, pstrain, yielded = self._trial
+        pstrain[:] = self.plastic_strain
+        mohr_coulomb_update(self.stress, deps, self.point_material, self.table, stress,
+                            tangent, pstrain, yielded, want_tangent)
+        if not self.active.all():
+            off = np.repeat(~self.active, self.disc.num_points)
+            stress[off] = 0.0
+            tangent[off] = 1e-9 * tangent[off] if want_tangent else tangent[off]
+            yielded[off] = 0
+        self.sspace.assign(self.stress_q, stress)
+        if want_tangent:
+            self.tspace.assign(self.tangent_q, tangent)
+
+    def _residual(self) -> float:
+        """Assemble R into self.b (free dofs, BC rows zeroed) and return its norm."""
+        with self.b.localForm() as loc:
+            loc.set(0.0)
+        fem_petsc.assemble_vector(self.b, self._residual_form)
+        self.b.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+        fem_petsc.set_bc(self.b, self._bcs_hom)
+        return self.b.norm()
+
+    def _internal_norm(self) -> float:
+        f = fem_petsc.assemble_vector(self._internal_form)
+        f.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+        norm = f.norm()
+        f.destroy()
+        return norm
+
+    # --- one load step --------------------------------------------------------------------
+    def _newton(self, d_lambda: float, d_gravity: float,
+                elastic: bool = False) -> tuple[bool, list[float]]:
+        """Solve one increment; on failure the trial state is discarded by the caller.
+
+        ``elastic``: iterate with the elastic stiffness (factorised once) instead of the
+        consistent tangent: linear but robust convergence, the fallback when full Newton
+        cycles between return regions (non-associated flow near collapse).
+        """
+        opts = self.options
+        self._lam.value = self.load_factor + d_lambda
+        self._grav.value = self.gravity_factor + d_gravity
+        self.bc.scale(d_lambda)
+        bcs = self.bc.bcs + self._inactive_bcs
+        # first iterate: the previous increment scaled to this one (a mechanism repeats
+        # itself near collapse), then the prescribed increments on the Dirichlet dofs
+        prev = self._last_increment
+        if prev is not None and prev[1] != 0.0 and d_gravity == 0.0:
+            self.Du.x.array[:] = prev[0] * (d_lambda / prev[1])
+        else:
+            self.Du.x.array[:] = 0.0
+        fem.set_bc(self.Du.x.array, bcs)
+        self.Du.x.scatter_forward()
+        self.bc.scale(0.0)
+        self._bcs_hom = bcs
+        residuals: list[float] = []
+        want_tangent = not elastic
+        if elastic:
+            self.tspace.assign(self.tangent_q, self._elastic_tangent())
+            self.A.zeroEntries()
+            fem_petsc.assemble_matrix(self.A, self._jacobian_form, bcs=bcs)
+            self.A.assemble()
+        self._update_stress(want_tangent)
+        norm = self._residual()
+        scale = max(self._internal_norm(), float(np.abs(self._lam.value)) + 1.0, 1.0)
+        for _ in range(opts.elastic_iterations if elastic else opts.max_iterations):
+            residuals.append(norm)
+            if not np.isfinite(norm):
+                return False, residuals
+            if norm <= opts.tolerance * scale:
+                return True, residuals
+            if not elastic:
+                self.A.zeroEntries()
+                fem_petsc.assemble_matrix(self.A, self._jacobian_form, bcs=bcs)
+                self.A.assemble()
+            self.ksp.solve(self.b, self.delta.vector)
+            if self.ksp.getConvergedReason() < 0:
+                return False, residuals
+            self.delta.x.scatter_forward()
+            step = 1.0
+            base = self.Du.x.array.copy()
+            for _ in range(opts.line_search + 1):
+                self.Du.x.array[:] = base - step * self.delta.x.array
+                self._update_stress(want_tangent)
+                trial = self._residual()
+                if elastic or trial < norm or step < 2.0 ** -opts.line_search:
+                    break
+                step *= 0.5
+            norm = trial
+            self.iterations_total += 1
+        residuals.append(norm)
+        return norm <= opts.tolerance * scale, residuals
+
+    def _commit(self, d_lambda: float, d_gravity: float, iterations: int,
+                residuals: list[float]) -> StepRecord:
+        stress, _, pstrain, yielded = self._trial
+        self.stress[:] = stress
+        self.plastic_strain[:] = pstrain
+        self.yielded[:] = yielded
+        self.u.x.array[:] += self.Du.x.array
+        self.u.x.scatter_forward()
+        self._last_increment = (self.Du.x.array.copy(), d_lambda) if d_gravity == 0 else None
+        self.load_factor += d_lambda
+        self.gravity_factor += d_gravity
+        record = StepRecord(self.load_factor, iterations, residuals,
+                            {k: f() for k, f in self.monitors.items()})
+        self.history.append(record)
+        return record
+
+    def step(self, d_lambda: float = 0.0, d_gravity: float = 0.0) -> StepRecord | None:
+        """Apply one increment of load factor and/or gravity; None if Newton failed."""
+        start = time.perf_counter()
+        ok, residuals = self._newton(d_lambda, d_gravity)
+        if not ok and self.options.elastic_iterations > 0:
+            ok, residuals = self._newton(d_lambda, d_gravity, elastic=True)
+        self.wall_time += time.perf_counter() - start
+        if not ok:
+            self._lam.value = self.load_factor
+            self._grav.value = self.gravity_factor
+            self.sspace.assign(self.stress_q, self.stress)
+            return None
+        return self._commit(d_lambda, d_gravity, len(residuals) - 1, residuals)
+
+    def ramp(self, target: float, steps: int, *, gravity: bool = False,
+             stop: Callable[[PlasticSolver], bool] | None = None) -> Analysis:
+        """Raise the load factor (or the gravity factor) to ``target`` in ``steps`` equal
+        increments, cutting a failing increment in half down to ``min_increment`` x the first.
+
+        Returns an :class:`Analysis` telling whether the target was reached (``collapsed``
+        False) and the last converged factor.
+        """
+        current = self.gravity_factor if gravity else self.load_factor
+        size = (target - current) / steps
+        if self.options.max_increment is not None:
+            size = float(np.sign(size)) * min(abs(size), self.options.max_increment)
+        smallest = abs(size) * self.options.min_increment
+        cuts = 0
+        while abs(target - current) > 1e-12 * max(1.0, abs(target)):
+            inc = size if abs(size) < abs(target - current) else target - current
+            record = self.step(0.0, inc) if gravity else self.step(inc, 0.0)
+            if record is None:
+                cuts += 1
+                size *= 0.5
+                if abs(size) < smallest:
+                    log.info("collapse: no equilibrium beyond factor %.6g", current)
+                    return Analysis(False, current, cuts)
+                continue
+            current = self.gravity_factor if gravity else self.load_factor
+            if stop is not None and stop(self):
+                break
+        return Analysis(True, current, cuts)
+
+    def _elastic_tangent(self) -> np.ndarray:
+        """Plane-strain elastic matrix D (Voigt, engineering shear) at every point."""
+        K, G = self.table[self.point_material, 0], self.table[self.point_material, 1]
+        lam = K - 2.0 * G / 3.0
+        D = np.zeros((self.npoints, 4, 4))
+        for i in range(3):
+            D[:, i, :3] = lam[:, None]
+            D[:, i, i] += 2.0 * G
+        D[:, 3, 3] = G
+        return D
+
+    # --- gravity, stages, strength ----------------------------------------------------------
+    def apply_gravity(self, steps: int = 1) -> Analysis:
+        """Switch the self-weight on in ``steps`` increments (elasto-plastic)."""
+        return self.ramp(1.0, steps, gravity=True)
+
+    def set_initial_stress(self, stress: np.ndarray) -> None:
+        """Start from a given stress state (n_cells, nqp, 4) [kPa], e.g. a K0 state."""
+        self.stress[:] = np.asarray(stress, float).reshape(self.npoints, 4)
+        self.sspace.assign(self.stress_q, self.stress)
+
+    def geostatic_stress(self, surface_level: float, k0: float | None = None) -> np.ndarray:
+        """K0 stress state under horizontal ground at y = ``surface_level`` [m]:
+        sigma_v = -gamma (surface_level - y), sigma_h = K0 sigma_v (K0 per material's
+        nu / (1 - nu) when None). Returns (n_cells, nqp, 4); use :meth:`set_initial_stress`.
+        """
+        xq = evaluate_at_points(self.disc, ufl.SpatialCoordinate(self.u.function_space.mesh))
+        gamma = self.model.cell_property("unit_weight")[:, None]
+        k = (self.model.cell_property("k0")[:, None] if k0 is None else k0)
+        sv = -gamma * (surface_level - xq[..., 1])
+        return np.stack([k * sv, sv, k * sv, 0.0 * sv], axis=-1)
+
+    def set_active(self, groups: Sequence[str]) -> None:
+        """Only the named cell groups carry stiffness, weight and stress (staged construction).
+
+        Dofs touching only inactive cells are held fixed. Newly activated cells start with zero
+        stress; their displacement increments start from the activation.
+        """
+        md = self.model.mesh
+        for g in groups:
+            md.cell_tag(g)  # raises a clear error for an unknown group
+        active = np.zeros(self.sspace.num_cells, dtype=bool)
+        for g in groups:
+            active[md.cells(g)] = True
+        newly = active & ~self.active
+        pts = np.repeat(newly, self.disc.num_points)
+        self.stress[pts] = 0.0
+        self.plastic_strain[pts] = 0.0
+        self.active = active
+        n = self.sspace.num_cells
+        dofs0 = self._active_fn.function_space.dofmap.list.array[:n]
+        self._active_fn.x.array[dofs0] = active.astype(float)
+        self._active_fn.x.scatter_forward()
+        # dofs of active cells, marked through a function so that ghosts agree (notes pitfall 4)
+        V = self.disc.V
+        marker = fem.Function(V)
+        dofmap = V.dofmap.list.array.reshape(-1, V.dofmap.dof_layout.num_dofs)
+        blocks = dofmap[:n][active].ravel()
+        marker.x.array.reshape(-1, 2)[blocks] = 1.0
+        marker.x.scatter_reverse(la.ScatterMode.add)
+        marker.x.scatter_forward()
+        inactive_dofs = np.flatnonzero(marker.x.array.reshape(-1, 2)[:, 0] == 0).astype(np.int32)
+        zero = fem.Constant(V.mesh, PETSc.ScalarType((0.0, 0.0)))
+        self._inactive_bcs = ([fem.dirichletbc(zero, inactive_dofs, V)]
+                              if V.mesh.comm.allreduce(len(inactive_dofs)) else [])
+        self.sspace.assign(self.stress_q, self.stress)
+
+    def set_strength_factor(self, factor: float) -> None:
+        """Divide c and tan(phi), tan(psi) of every plastic material by ``factor``."""
+        self.table = material_table(self.materials, factor)
+
+    def reset_displacement(self) -> None:
+        """Zero the displacement field (stresses kept): e.g. after the gravity stage."""
+        self.u.x.array[:] = 0.0
+
+    # --- checkpoints of the state (for strength reduction, bisection) -------------------
+    def snapshot(self) -> tuple[np.ndarray, ...]:
+        return (self.stress.copy(), self.plastic_strain.copy(), self.yielded.copy(),
+                self.u.x.array.copy(), np.array([self.load_factor, self.gravity_factor]))
+
+    def restore(self, snap: tuple[np.ndarray, ...]) -> None:
+        self.stress[:], self.plastic_strain[:], self.yielded[:] = snap[0], snap[1], snap[2]
+        self.u.x.array[:] = snap[3]
+        self.load_factor, self.gravity_factor = float(snap[4][0]), float(snap[4][1])
+        self._lam.value, self._grav.value = self.load_factor, self.gravity_factor
+        self._last_increment = None
+        self.sspace.assign(self.stress_q, self.stress)
+
+    # --- outputs ---------------------------------------------------------------------------
+    def reaction(self, boundary: str, component: int) -> float:
+        """Resultant internal force on a boundary's dofs along x (0) or y (1) [kN/m].
+
+        Equals the support reaction (with the opposite sign) where the boundary is held, e.g.
+        the force a rigid footing or a wall transmits to the soil.
+        """
+        V = self.disc.V
+        dofs = fem.locate_dofs_topological(V.sub(component), 1,
+                                           self.model.mesh.facets(boundary))
+        self.sspace.assign(self.stress_q, self.stress)
+        f = fem_petsc.assemble_vector(self._internal_form)
+        f.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+        owned = V.dofmap.index_map.size_local * V.dofmap.index_map_bs
+        local = f.array_r
+        total = float(np.sum(local[dofs[dofs < owned]]))
+        f.destroy()
+        return V.mesh.comm.allreduce(total, op=MPI.SUM)
+
+    def state(self) -> ContinuumState:
+        """The converged state (copies) for outputs and the handover."""
+        n, nqp = self.sspace.num_cells, self.disc.num_points
+        u = self.u.copy()
+        info = {"solver": "mohr-coulomb newton", "degree": self.disc.degree,
+                "cells": self.model.mesh.mesh.topology.index_map(2).size_global,
+                "dofs": self.disc.V.dofmap.index_map.size_global * 2,
+                "steps": len(self.history), "newton_iterations": self.iterations_total,
+                "wall_time_s": self.wall_time, "load_factor": self.load_factor,
+                "gravity_factor": self.gravity_factor}
+        return ContinuumState(self.model, self.disc, u, self.stress.reshape(n, nqp, 4).copy(),
+                              self.plastic_strain.reshape(n, nqp).copy(),
+                              self.yielded.reshape(n, nqp).copy(), info)
+
+
+@dataclass
+class Analysis:
+    """Outcome of a ramp: ``completed`` False means collapse before the target."""
+
+    completed: bool
+    factor: float
+    cuts: int
