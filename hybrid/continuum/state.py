@@ -61,9 +61,17 @@ class ContinuumState:
         """Area-weighted mean plastic strain of every owned cell (n_owned_cells,)."""
         return self._cell_mean(self.plastic_strain[..., None])[:, 0]
 
-    def cell_displacement(self) -> np.ndarray:
-        """Area-weighted mean displacement of every owned cell (n_owned_cells, 2) [m]."""
-        return self._cell_mean(evaluate_at_points(self.disc, self.u))
+    def cell_displacement(self, values: np.ndarray | None = None) -> np.ndarray:
+        """Area-weighted mean displacement of every owned cell (n_owned_cells, 2) [m].
+
+        ``values``: another displacement-like field as dof values of ``u``'s space (e.g. an
+        increment); default the displacement itself.
+        """
+        field = self.u
+        if values is not None:
+            field = self.u.copy()
+            field.x.array[:] = values
+        return self._cell_mean(evaluate_at_points(self.disc, field))
 
     def yielded_cells(self, threshold: float = 0.0) -> np.ndarray:
         """Owned cells with a yielded point or mean plastic strain above ``threshold``."""
