@@ -377,6 +377,30 @@ class PlasticSolver:
                               if V.mesh.comm.allreduce(len(inactive_dofs)) else [])
         self.sspace.assign(self.stress_q, self.stress)
 
+    def activate(self, groups: Sequence[str], steps: int = 1) -> Analysis:
+        """Place the named cell groups (in addition to the active ones) and bring the structure
+        to equilibrium under their weight, ramped in ``steps`` increments (staged construction,
+        thesis 6.3.1). Returns whether equilibrium was reached.
+        """
+        if self.gravity_factor == 0.0:  # placed material comes with its weight
+            self.gravity_factor = 1.0
+            self._grav.value = 1.0
+        before = self.active.copy()
+        current = [g for g in self.model.mesh.cell_groups
+                   if np.any(before[self.model.mesh.cells(g)])]
+        self.set_active(sorted(set(current) | set(groups)))
+        newly = self.active & ~before
+        n = self.sspace.num_cells
+        dofs0 = self._active_fn.function_space.dofmap.list.array[:n]
+        for k in range(1, steps + 1):
+            weight = self.active.astype(float)
+            weight[newly] = k / steps
+            self._active_fn.x.array[dofs0] = weight
+            self._active_fn.x.scatter_forward()
+            if self.step() is None:
+                return Analysis(False, (k - 1) / steps, 0)
+        return Analysis(True, 1.0, 0)
+
     def set_strength_factor(self, factor: float) -> None:
         """Divide c and tan(phi), tan(psi) of every plastic material by ``factor``."""
         self.table = material_table(self.materials, factor)
