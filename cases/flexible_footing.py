@@ -22,7 +22,6 @@ References
 
 from __future__ import annotations
 
-import math
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
@@ -33,6 +32,7 @@ from hybrid.geometry import build_mesh, load_builder
 from hybrid.io import Check, continuum_figures, plot_cell_field, write_continuum_xdmf, write_summary
 from hybrid.materials import Material
 from hybrid.model import Fixed, Model, Pressure, Roller
+from hybrid.references import flamant_centreline
 
 MESHES = Path(__file__).resolve().parent.parent / "meshes"
 
@@ -50,12 +50,6 @@ class Parameters:
     cells: str = "triangle"  # "triangle" or "quadrilateral"
     degree: int = 2  # displacement order (1 or 2)
     convergence: bool = True  # also solve on a mesh twice as fine for the settlement
-
-
-def flamant_centreline(q: float, half_width: float, z: np.ndarray) -> np.ndarray:
-    """Vertical stress under the centre of a strip load q at depth z, tension positive [kPa]."""
-    alpha = 2.0 * np.arctan(half_width / z)
-    return -(q / math.pi) * (alpha + np.sin(alpha))
 
 
 def solve(p: Parameters, refinement: float = 1.0):

@@ -79,6 +79,11 @@ def main(argv: Sequence[str] | None = None) -> int:
         b = sub.add_parser("bench", help="discrete-engine throughput benchmark")
         bench.add_arguments(b)
         b.set_defaults(func=bench.run)
+    from hybrid import verification
+
+    verify = sub.add_parser("verify", help="run the verification cases, write the report")
+    verification.add_arguments(verify)
+    verify.set_defaults(func=verification.command)
     args = parser.parse_args(argv)
     try:
         return int(args.func(args) or 0)

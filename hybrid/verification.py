@@ -1,0 +1,441 @@
+"""The verification registry behind ``hybrid verify``: C1-C10 of verification-targets.md.
+
+Each entry names a case script (``cases/*.py``, a ``main(out=..., **overrides) -> dict`` whose
+``"checks"`` maps names to :class:`hybrid.io.Check`), the reduced overrides the default (fast)
+run uses and those of the full run. Adding a case is one entry in :data:`CASES`; a case whose
+script does not exist yet is listed as "not yet available" (not failed).
+
+What a case summary may carry, besides ``"checks"``, and how the report uses it:
+
+- ``"cells"``, ``"dofs"``, ``"steps"``, ``"load_steps"``, ``"iterations"``,
+  ``"newton_iterations"``, ``"wall_time_s"`` (top level), and any scalar in ``"stats"``: shown
+  in the case's section of the report (the wall time of the whole run, mesh and plots
+  included, is always measured: ``total_wall_time_s``).
+- ``"load_settlement"``: ``{"settlement": [m], "pressure": [kPa], "references": {name: kPa}}``
+  (or a dict of such curves by name): plotted with
+  :func:`hybrid.report.plot_load_settlement` unless the case wrote ``load_settlement*.png``.
+- ``"thrust_translation"``: ``{"translation": [m], "thrust": [kN/m], "references": {...}}``
+  (or a dict of them): plotted with :func:`hybrid.report.plot_thrust_translation`.
+- PNG files the case writes into its output folder are kept (copied into the report).
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import logging
+import math
+import time
+import traceback
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from hybrid.io import Check
+
+__all__ = ["VerificationCase", "CASES", "CASES_DIR", "STATUSES", "run_case", "run_cases",
+           "select", "exit_code", "add_arguments", "command"]
+
+log = logging.getLogger(__name__)
+
+CASES_DIR = Path(__file__).resolve().parent.parent / "cases"
+
+# passed: every row with a bar passes; failed: a row misses its bar; reported: rows without
+# bars only; error: the case raised; not yet available: its script is not in cases/ yet.
+STATUSES = ("passed", "failed", "reported", "error", "not yet available")
+
+_STAT_KEYS = ("cells", "dofs", "steps", "load_steps", "iterations", "newton_iterations",
+              "wall_time_s")
+
+
+@dataclass(frozen=True)
+class VerificationCase:
+    """One row group of the verification report.
+
+    Attributes:
+        id: "C1" ... (verification-targets.md).
+        title: the problem in a few words.
+        case_script: path of the case script relative to the cases folder.
+        overrides: parameters of the default (fast) run.
+        full_overrides: parameters of the ``--full`` run.
+        reference: the closed form / published value, in words.
+        bar: the acceptance bar, in words.
+        slow: True when even the fast run is long (tests mark it slow).
+        checks: names of the summary's checks that become rows (None: all of them).
+        extra: function(summary) -> {name: Check}, more rows from the summary's data.
+        figures: function(summary, case out dir) -> PNG paths, more figures from its data.
+        keep: glob patterns of the PNGs that go into the report (the rest stay in the case's
+            output folder).
+    """
+
+    id: str
+    title: str
+    case_script: str
+    overrides: Mapping[str, Any] = field(default_factory=dict)
+    full_overrides: Mapping[str, Any] = field(default_factory=dict)
+    reference: str = ""
+    bar: str = ""
+    slow: bool = False
+    checks: tuple[str, ...] | None = None
+    extra: Callable[[dict], dict[str, Check]] | None = None
+    figures: Callable[[dict, Path], list[Path]] | None = None
+    keep: tuple[str, ...] = ("*.png",)
+
+    def script_path(self, cases_dir: Path | None = None) -> Path:
+        return Path(cases_dir or CASES_DIR) / self.case_script
+
+
+def _c3_extra(summary: dict) -> dict[str, Check]:
+    conv = summary.get("settlement_convergence")
+    if not conv:
+        return {}
+    return {"settlement_change_on_halving_mesh": Check(
+        float(conv["relative_change"]), None, None, "-",
+        f"footing-edge settlement, {conv['cells'][0]} -> {conv['cells'][1]} cells (reported)")}
+
+
+def _c4_extra(summary: dict) -> dict[str, Check]:
+    conv = summary.get("mesh_convergence")
+    if not conv:
+        return {}
+    # reference 0 makes the error the change itself; 2 % as the far-field bar
+    return {"stress_change_on_halving_mesh": Check(
+        float(conv["max_change_over_max_stress"]), 0.0, 0.02, "-",
+        "max |stress change| / max |stress| at 3 points inside the slope")}
+
+
+def _footing_estimates(summary: dict) -> dict[str, float]:
+    """Prandtl and the Terzaghi / Meyerhof / Vesic / Hansen estimates for the case's soil."""
+    from hybrid.references import strip_footing_estimates
+
+    p = summary["parameters"]
+    return strip_footing_estimates(p["cohesion"], p["phi"], p["unit_weight"],
+                                   p["footing_width"])
+
+
+def _footing_curve(summary: dict) -> tuple[Any, Any] | None:
+    curve = summary.get("curve") or {}
+    if "settlement_m" in curve and "pressure_kPa" in curve:
+        return curve["settlement_m"], curve["pressure_kPa"]
+    return None
+
+
+def _footing_figures(summary: dict, out: Path) -> list[Path]:
+    """Load-settlement curve with the Prandtl / Terzaghi / Meyerhof / Vesic lines."""
+    from hybrid import report
+
+    curve = _footing_curve(summary)
+    if curve is None:
+        return []
+    refs = _footing_estimates(summary)
+    if summary["parameters"].get("unit_weight", 0.0) == 0.0:
+        refs = {"Prandtl": refs["Prandtl (weightless)"]}  # the others coincide without weight
+    else:
+        refs["thesis 5.4.1 collapse (approx.)"] = 1200.0
+    return [report.plot_load_settlement(out / "load_settlement_references.png", *curve,
+                                        references=refs,
+                                        title=f"{summary.get('case', 'footing')}: "
+                                              "load-settlement")]
+
+
+def _c7_extra(summary: dict) -> dict[str, Check]:
+    """The limit pressure beside each classical estimate (reported, no bar)."""
+    limit = summary["checks"]["limit_pressure"].computed
+    return {f"limit_pressure_vs_{name.split()[0].lower()}": Check(
+        limit, value, None, "kPa", f"{name}: c N_c + 0.5 gamma B N_gamma (reported)")
+        for name, value in _footing_estimates(summary).items() if "Prandtl" not in name}
+
+
+def _wall_figures(summary: dict, out: Path) -> list[Path]:
+    """Thrust-translation curve with the Rankine and at-rest lines."""
+    from hybrid import report
+    from hybrid.references import k0_elastic, k0_jaky, rankine_active_thrust, rankine_passive_thrust
+
+    curve = summary.get("curve") or {}
+    if "translation_m" not in curve or "thrust_kN_per_m" not in curve:
+        return []
+    p = summary["parameters"]
+    gamma, H, phi, c = p["unit_weight"], p["height"], p["phi"], p.get("cohesion", 0.0)
+    refs = {"Rankine active" if p["mode"] == "active" else "Rankine passive":
+            (rankine_active_thrust(gamma, H, phi, c) if p["mode"] == "active"
+             else rankine_passive_thrust(gamma, H, phi, c)),
+            "at rest, elastic K0 = nu/(1 - nu)": 0.5 * k0_elastic(p["nu"]) * gamma * H**2,
+            "at rest, Jaky K0 = 1 - sin phi": 0.5 * k0_jaky(phi) * gamma * H**2}
+    return [report.plot_thrust_translation(
+        out / f"thrust_translation_{p['mode']}.png", curve["translation_m"],
+        curve["thrust_kN_per_m"], references=refs,
+        title=f"{summary.get('case', 'wall')}: thrust-translation")]
+
+
+# reduced mesh / steps of the footing runs (about 4 s each here; full about 10 s)
+_FOOTING_FAST = {"fine": 0.06, "coarse": 0.8, "steps": 20}
+
+CASES: dict[str, VerificationCase] = {c.id: c for c in (
+    VerificationCase(
+        "C1", "Uniform load on a 12 m block, 3x3 Q4 (thesis 3.4.1)", "uniform_load.py",
+        reference="sigma_yy = -q = -5 kPa, sigma_xx = tau_xy = 0 everywhere; settlement "
+                  "q (1 - nu^2) H / E", bar="1e-6 relative",
+        keep=("sigma_yy.png",)),
+    VerificationCase(
+        "C2", "Elastic column under gravity, laterally confined (oedometric)", "oedometer.py",
+        reference="sigma_v = -gamma z, sigma_h = nu/(1 - nu) sigma_v; settlement gamma H^2/(2M)",
+        bar="0.5 %",
+        keep=("stress_profile.png",)),
+    VerificationCase(
+        "C3", "Flexible strip footing B = 12 m, q = 100 kPa, E = 10 MPa, nu = 0.4 (thesis 3.4.2)",
+        "flexible_footing.py", overrides={"fine": 0.4, "coarse": 3.0},
+        reference="centreline sigma_z = -(q/pi)(alpha + sin alpha) for z <= B/2 (Poulos & "
+                  "Davis 1974); edge settlement beside the thesis's 0.101 m",
+        bar="5 % stress; settlement reported", extra=_c3_extra,
+        keep=("centreline_stress.png", "sigma_yy.png", "vertical_displacement.png")),
+    VerificationCase(
+        "C4", "Gravity switch-on in a 10 m high 30 deg slope (thesis 3.4.4)", "slope_gravity.py",
+        overrides={"size": 1.5},
+        reference="far field sigma_v = -gamma z, sigma_h = K0 sigma_v, K0 = nu/(1 - nu); "
+                  "stresses mesh-converged", bar="2 %", extra=_c4_extra,
+        keep=("sigma_yy.png", "sigma_xx.png")),
+    # Continuum plasticity (the Mohr-Coulomb solver): parameter names of the overrides are
+    # those of each script's Parameters; an unknown one is reported as an error naming it.
+    VerificationCase(
+        "C5", "Rigid smooth strip footing, weightless Tresca soil, c_u = 50 kPa",
+        "bearing_capacity.py",
+        overrides={"cohesion": 50.0, "phi": 0.0, "case_id": "C5", **_FOOTING_FAST},
+        full_overrides={"cohesion": 50.0, "phi": 0.0, "case_id": "C5"},
+        reference="Prandtl q_u = (2 + pi) c_u = 257.1 kPa", bar="3 %",
+        figures=_footing_figures,
+        keep=("load_settlement_references.png", "plastic_strain.png")),
+    VerificationCase(
+        "C6", "Rigid smooth strip footing, weightless MC soil c = 69 kPa, phi = 20 deg, "
+        "psi = phi (thesis 5.4.1)", "bearing_capacity.py",
+        overrides={"case_id": "C6", **_FOOTING_FAST}, full_overrides={"case_id": "C6"},
+        reference="Prandtl q_u = c N_c = 1023.6 kPa", bar="3 %", figures=_footing_figures,
+        keep=("load_settlement_references.png", "plastic_strain.png")),
+    VerificationCase(
+        "C6-psi0", "C6 with psi = 0 (non-associated)", "bearing_capacity.py",
+        overrides={"case_id": "C6-psi0", "psi": 0.0, **_FOOTING_FAST},
+        full_overrides={"case_id": "C6-psi0", "psi": 0.0},
+        reference="load plateau reported beside Prandtl 1023.6 kPa", bar="report",
+        figures=_footing_figures,
+        keep=("load_settlement_references.png", "plastic_strain.png")),
+    VerificationCase(
+        "C7", "C6 footing with soil weight (gamma = 20 kN/m3 assumed)", "bearing_capacity.py",
+        overrides={"case_id": "C7", "unit_weight": 20.0, **_FOOTING_FAST},
+        full_overrides={"case_id": "C7", "unit_weight": 20.0},
+        reference="between the Terzaghi / Meyerhof / Vesic estimates; thesis ~1200 kPa",
+        bar="report", extra=_c7_extra, figures=_footing_figures,
+        keep=("load_settlement_references.png", "plastic_strain.png")),
+    VerificationCase(
+        "C8-active", "Smooth rigid wall H = 10 m, sand phi = 30 deg, moved away from the "
+        "backfill (thesis 5.4.2)", "retaining_wall.py", overrides={"mode": "active"},
+        full_overrides={"mode": "active"},
+        reference="Rankine K_a = 1/3, P_a = 0.5 K_a gamma H^2 = 275 kN/m", bar="5 %",
+        figures=_wall_figures,
+        keep=("thrust_translation_*.png", "*plastic_strain.png")),
+    VerificationCase(
+        "C8-passive", "The same wall pushed toward the backfill", "retaining_wall.py",
+        overrides={"mode": "passive"}, full_overrides={"mode": "passive"},
+        reference="Rankine K_p = 3, P_p = 0.5 K_p gamma H^2 = 2475 kN/m", bar="10 %",
+        figures=_wall_figures,
+        keep=("thrust_translation_*.png", "*plastic_strain.png")),
+    VerificationCase(
+        "C9", "Slope factor of safety by strength reduction (Griffiths & Lane 1999, ex. 1)",
+        "slope_fos.py",
+        reference="Bishop & Morgenstern (1960) charts F = 1.38 (Griffiths & Lane FE: 1.4)",
+        bar="5 %"),
+    VerificationCase(
+        "C10", "Staged construction: a confined fill column placed in 4 lifts",
+        "staged_embankment.py",
+        reference="sigma_v = -gamma z, sigma_h = K0 sigma_v at the end; closed-form staged "
+                  "settlement of each lift top; zero stress in lifts not yet placed", bar="1 %"),
+)}
+
+
+def _rows(checks: Mapping[str, Check]) -> list[dict[str, Any]]:
+    rows = []
+    for name, check in checks.items():
+        error = check.error
+        rows.append({"name": name, "computed": float(check.computed),
+                     "reference": None if check.reference is None else float(check.reference),
+                     "error": None if error is None else float(error),
+                     "bar": check.bar, "unit": check.unit, "source": check.source,
+                     "passed": check.passed})
+    return rows
+
+
+def _status(rows: Sequence[Mapping[str, Any]]) -> str:
+    verdicts = [r["passed"] for r in rows if r["passed"] is not None]
+    if any(v is False for v in verdicts):
+        return "failed"
+    return "passed" if verdicts else "reported"
+
+
+def _stats(summary: Mapping[str, Any]) -> dict[str, Any]:
+    stats = {k: summary[k] for k in _STAT_KEYS if _is_scalar(summary.get(k))}
+    extra = summary.get("stats")
+    if isinstance(extra, Mapping):
+        stats.update({str(k): v for k, v in extra.items() if _is_scalar(v)})
+    return stats
+
+
+def _is_scalar(value: Any) -> bool:
+    try:
+        return value is not None and not isinstance(value, bool) and math.isfinite(float(value))
+    except (TypeError, ValueError):
+        return False
+
+
+def _curves(value: Any, keys: tuple[str, str]) -> dict[str, Mapping[str, Any]]:
+    if not isinstance(value, Mapping):
+        return {}
+    if all(k in value for k in keys):
+        return {"": value}
+    return {str(name): v for name, v in value.items()
+            if isinstance(v, Mapping) and all(k in v for k in keys)}
+
+
+def _curve_figures(summary: Mapping[str, Any], out: Path, case_id: str) -> list[Path]:
+    from hybrid import report
+
+    made = []
+    for key, keys, plot in (
+            ("load_settlement", ("settlement", "pressure"), report.plot_load_settlement),
+            ("thrust_translation", ("translation", "thrust"), report.plot_thrust_translation)):
+        if list(out.glob(f"{key}*.png")):
+            continue  # the case drew it itself
+        for name, curve in _curves(summary.get(key), keys).items():
+            stem = f"{key}_{name}" if name else key
+            title = f"{case_id}: {key.replace('_', ' ')}" + (f" ({name})" if name else "")
+            made.append(plot(out / f"{stem}.png", curve[keys[0]], curve[keys[1]],
+                             references=curve.get("references"), title=title))
+    return made
+
+
+def _base(case: VerificationCase, full: bool) -> dict[str, Any]:
+    return {"id": case.id, "title": case.title, "case_script": f"cases/{case.case_script}",
+            "reference": case.reference, "bar": case.bar, "slow": case.slow, "full": full,
+            "overrides": dict(case.full_overrides if full else case.overrides),
+            "status": "not yet available", "message": "", "rows": [], "figures": [],
+            "stats": {}, "out": None}
+
+
+def run_case(case_id: str, out_dir: str | Path, full: bool = False, *,
+             cases_dir: str | Path | None = None) -> dict[str, Any]:
+    """Run one registered case into ``out_dir/<id>``; returns its report entry.
+
+    The entry holds ``rows`` (name, computed, reference, error, bar, unit, source, passed),
+    ``status`` (one of :data:`STATUSES`), ``figures`` (PNG paths), ``stats`` (cells, steps,
+    iterations, wall time ...) and the overrides used. A case that raises is an ``error``
+    entry with the message (the traceback goes to the log), never an exception.
+    """
+    if case_id not in CASES:
+        raise ValueError(f"unknown verification case '{case_id}'; known: {', '.join(CASES)}")
+    case = CASES[case_id]
+    result = _base(case, full)
+    script = case.script_path(Path(cases_dir) if cases_dir else None)
+    if not script.is_file():
+        result["message"] = f"{result['case_script']} does not exist yet"
+        return result
+    out = Path(out_dir) / case.id
+    result["out"] = str(out)
+    start = time.perf_counter()
+    try:
+        from hybrid.case import load_case
+
+        module = load_case(script)
+        overrides = dict(result["overrides"])
+        known = {f.name for f in dataclasses.fields(module.Parameters)}
+        unknown = sorted(set(overrides) - known)
+        if unknown:
+            raise ValueError(f"override(s) {', '.join(unknown)} not parameters of "
+                             f"{result['case_script']} (known: {', '.join(sorted(known))}); "
+                             f"fix CASES['{case.id}'] in hybrid/verification.py")
+        summary = module.main(out=out, **overrides)
+        checks = dict(summary.get("checks", {}))
+        if case.checks is not None:
+            missing = [n for n in case.checks if n not in checks]
+            if missing:
+                raise ValueError(f"the case returned no check(s) {', '.join(missing)}")
+            checks = {n: checks[n] for n in case.checks}
+        if case.extra is not None:
+            checks.update(case.extra(summary))
+        result["rows"] = _rows(checks)
+        result["stats"] = _stats(summary)
+        figures = sorted(out.glob("*.png"))
+        figures += [p for p in _curve_figures(summary, out, case.id) if p not in figures]
+        if case.figures is not None:
+            figures += [Path(p) for p in case.figures(summary, out) if Path(p) not in figures]
+        result["figures"] = [str(p) for p in figures
+                             if any(p.match(pattern) for pattern in case.keep)]
+        result["status"] = _status(result["rows"])
+    except Exception as err:  # a broken case is a result of the report, not a crash
+        log.error("%s failed:\n%s", case.id, traceback.format_exc())
+        result["status"] = "error"
+        result["message"] = f"{type(err).__name__}: {err}"
+    result["stats"]["total_wall_time_s"] = round(time.perf_counter() - start, 3)
+    return result
+
+
+def select(ids: Sequence[str]) -> list[str]:
+    """Registered ids matching ``ids``: "C8" selects "C8" and its variants "C8-active", ..."""
+    chosen: list[str] = []
+    for want in ids:
+        found = [k for k in CASES if k == want or k.startswith(f"{want}-")]
+        if not found:
+            raise ValueError(f"unknown verification case '{want}'; known: {', '.join(CASES)}")
+        chosen += [k for k in found if k not in chosen]
+    return chosen
+
+
+def run_cases(ids: Sequence[str] | None, out_dir: str | Path, full: bool = False, *,
+              cases_dir: str | Path | None = None,
+              progress: Callable[[dict[str, Any]], None] | None = None) -> list[dict[str, Any]]:
+    """Run the cases ``ids`` (all registered ones when None) in order; see :func:`run_case`."""
+    ids = list(CASES) if ids is None else select(ids)
+    results = []
+    for case_id in ids:
+        result = run_case(case_id, out_dir, full, cases_dir=cases_dir)
+        results.append(result)
+        if progress is not None:
+            progress(result)
+    return results
+
+
+def exit_code(results: Sequence[Mapping[str, Any]]) -> int:
+    """1 when a case failed a bar or raised, else 0 (cases not yet available do not count)."""
+    return int(any(r["status"] in ("failed", "error") for r in results))
+
+
+# --- command line ---------------------------------------------------------------------------
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:
+    """Options of ``hybrid verify``."""
+    parser.add_argument("--only", default=None, metavar="C1,C3",
+                        help=f"comma-separated case ids (default: all of {', '.join(CASES)})")
+    parser.add_argument("--json", type=Path, default=None, metavar="PATH",
+                        help="also write the machine-readable results here")
+    parser.add_argument("--out", type=Path, default=Path("docs/verification"), metavar="DIR",
+                        help="report folder (default: docs/verification)")
+    parser.add_argument("--results", type=Path, default=Path("results/verify"), metavar="DIR",
+                        help="where the cases write their own outputs (default: results/verify)")
+    parser.add_argument("--full", action="store_true",
+                        help="full-size runs (default: reduced, fast overrides)")
+
+
+def command(args: argparse.Namespace) -> int:
+    """Run ``hybrid verify``: run the cases, write the report, print the table."""
+    from hybrid import report
+
+    ids = None if not args.only else [s.strip() for s in args.only.split(",") if s.strip()]
+
+    def progress(result: dict[str, Any]) -> None:
+        wall = result["stats"].get("total_wall_time_s")
+        took = f" ({wall:.1f} s)" if wall is not None and result["out"] else ""
+        print(f"{result['id']}: {result['status']}{took}", flush=True)
+
+    results = run_cases(ids, args.results, args.full, progress=progress)
+    md = report.write_report(results, args.out, full=args.full, json_path=args.json)
+    print()
+    print(report.format_table(results))
+    print(f"\nreport: {md}")
+    return exit_code(results)

@@ -1,0 +1,102 @@
+"""Mohr-Coulomb continuum: limit loads, earth pressures, FOS, staging, Newton convergence.
+
+Bars from verification-targets.md (C5-C10) and issue 3. Meshes are reduced where the bar
+still holds with margin; the full meshes run in `make verify` / the slow tests.
+"""
+
+import math
+
+import numpy as np
+import pytest
+
+from hybrid.continuum import PlasticSolver
+from hybrid.geometry import GeometryError, build_mesh
+from hybrid.materials import Material, MaterialError
+from hybrid.model import Fixed, Model, Roller
+
+
+def test_c5_tresca_prandtl(case, tmp_path):
+    """C5: (2 + pi) c_u = 257.1 kPa, bar 3 % (P2 triangles, 0.06 m at the footing edge)."""
+    s = case("bearing_capacity").main(out=tmp_path, cohesion=50.0, phi=0.0, fine=0.06,
+                                      settlement=0.02, steps=20, case_id="C5")
+    check = s["checks"]["limit_pressure"]
+    assert check.reference == pytest.approx((2 + math.pi) * 50.0, rel=1e-12)
+    assert check.passed and check.error < 0.03
+    assert s["completed"] and s["plateau_rise_last_fifth"] < 0.01  # a plateau was reached
+
+
+def test_c6_mohr_coulomb_prandtl_and_quadratic_newton(case, tmp_path):
+    """C6 (psi = phi): c N_c = 1023.6 kPa within 3 %; Newton converges quadratically."""
+    s = case("bearing_capacity").main(out=tmp_path, fine=0.06, settlement=0.08, steps=25)
+    check = s["checks"]["limit_pressure"]
+    assert check.reference == pytest.approx(1023.6, abs=0.05)
+    assert check.passed and check.error < 0.03
+    assert s["plateau_rise_last_fifth"] < 0.01
+    # Quadratic convergence near the solution: over the last iterations of a step
+    # log r_{k+1} / log r_k (residuals scaled by the first) tends to 2; require >= 1.7.
+    orders = []
+    for history in s["residual_histories"]:
+        r = np.asarray(history) / history[0]
+        if len(r) >= 3 and r[-2] < 1e-1:
+            orders.append(math.log(r[-1]) / math.log(r[-2]))
+    assert orders and max(orders) >= 1.7, s["residual_histories"]
+
+
+@pytest.mark.slow
+def test_c6_non_associated_plateau(case, tmp_path):
+    """C6 with psi = 0: the push reaches a load plateau (reported beside Prandtl)."""
+    s = case("bearing_capacity").main(out=tmp_path, psi=0.0, fine=0.06, settlement=0.08,
+                                      steps=25)
+    # Newton may stop short of the full push once on the plateau (documented): require that
+    # most of it was followed and that the pressure no longer rises over its last fifth
+    assert s["curve"]["settlement_m"][-1] > 0.6 * 0.08
+    assert s["plateau_rise_last_fifth"] < 0.02
+    # non-associated flow gives a lower plateau than Prandtl (associated theory)
+    assert 0.85 < s["checks"]["limit_pressure"].computed / 1023.6 < 1.0
+
+
+@pytest.mark.parametrize(("mode", "bar"), [("active", 0.05), ("passive", 0.10)])
+def test_c8_rankine(case, tmp_path, mode, bar):
+    """C8: thrust on the smooth wall reaches Rankine (275 / 2475 kN/m) within the bars."""
+    s = case("retaining_wall").main(out=tmp_path, mode=mode, nx=12, ny=6)
+    check = s["checks"][f"{mode}_thrust"]
+    assert check.reference == pytest.approx(275.0 if mode == "active" else 2475.0, rel=1e-12)
+    assert check.passed and check.error < bar
+    thrust = np.asarray(s["curve"]["thrust_kN_per_m"])
+    # starts from the at-rest thrust and moves monotonically toward the limit
+    assert np.all(np.diff(thrust) <= 1e-6) if mode == "active" else np.all(np.diff(thrust) >= -1e-6)
+
+
+def test_c9_slope_factor_of_safety(case, tmp_path):
+    """C9: Griffiths & Lane (1999) slope, F within 5 % of Bishop & Morgenstern's 1.38."""
+    s = case("slope_fos").main(out=tmp_path, size=1.0, tolerance=0.02)
+    check = s["checks"]["factor_of_safety"]
+    assert check.passed and check.error < 0.05
+    lo, hi = s["bracket"]
+    assert hi - lo <= 0.02 and lo == check.computed
+
+
+def test_c10_staged_construction(case, tmp_path):
+    """C10: no stress in unplaced lifts; end state and settlements within 1 %."""
+    s = case("staged_embankment").main(out=tmp_path)
+    for name, check in s["checks"].items():
+        assert check.passed, (name, check)
+    assert s["checks"]["max_stress_in_unplaced_lifts"].computed == 0.0
+    # settlement is largest in the middle of the fill (a staged-construction signature)
+    u = np.asarray(s["settlement_m"])
+    assert np.argmin(u) in (1, 2)
+
+
+def test_invalid_inputs(builder):
+    with pytest.raises(MaterialError, match="phi = 90"):
+        Material("sand", E=1e4, nu=0.3, phi=90.0)
+    with pytest.raises(MaterialError, match="psi = 35"):
+        Material("sand", E=1e4, nu=0.3, phi=30.0, psi=35.0)
+    with pytest.raises(MaterialError, match="cohesion = -1"):
+        Material("clay", E=1e4, nu=0.3, cohesion=-1.0, phi=10.0)
+    mesh = build_mesh(builder("block"), width=2.0, height=2.0, nx=2, ny=2)
+    model = Model(mesh, {"soil": Material("soil", E=1e4, nu=0.3, cohesion=10.0)},
+                  supports=[Fixed("base"), Roller("left", "x")])
+    solver = PlasticSolver(model, degree=1)
+    with pytest.raises(GeometryError, match="unknown cell .*'embankment'"):
+        solver.activate(["embankment"])
