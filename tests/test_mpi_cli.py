@@ -86,3 +86,20 @@ def test_continuum_xdmf_opens_in_meshio(case, tmp_path):
         set(mesh.point_data) | set(mesh.cell_data))
     # the uniform stress of C1 survives the round trip (rounding level)
     np.testing.assert_allclose(mesh.cell_data["sigma_yy"][0], -5.0, rtol=1e-12)
+
+
+@pytest.mark.mpi
+@pytest.mark.skipif(shutil.which("mpirun") is None, reason="mpirun not installed")
+def test_mpi_limit_load_equals_serial(tmp_path):
+    """C6 on 2 ranks: the same limit load as serial within 0.5 % (issue 3 bar)."""
+    opts = ["--set", "fine=0.1", "--set", "coarse=0.8", "--set", "steps=12",
+            "--set", "settlement=0.06"]
+    script = str(CASES / "bearing_capacity.py")
+    serial = _run([PYTHON, script, "--out", str(tmp_path / "serial"), *opts])
+    assert serial.returncode == 0, serial.stderr
+    parallel = _run(["mpirun", "-n", "2", PYTHON, script, "--out", str(tmp_path / "mpi"), *opts])
+    assert parallel.returncode == 0, parallel.stderr
+    a = json.loads((tmp_path / "serial" / "summary.json").read_text())
+    b = json.loads((tmp_path / "mpi" / "summary.json").read_text())
+    qa, qb = (s["checks"]["limit_pressure"]["computed"] for s in (a, b))
+    assert qb == pytest.approx(qa, rel=0.005)
