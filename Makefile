@@ -51,7 +51,7 @@ test-slow: setup
 	$(PY) -m pytest -q -m slow
 
 verify: setup
-	$(PY) -m hybrid verify
+	$(PY) -m hybrid verify --full
 
 bench: setup
 	$(PY) -m hybrid bench --json results/bench.json

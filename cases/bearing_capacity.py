@@ -51,8 +51,10 @@ class Parameters:
     coarse: float = 0.6  # element size far away [m]
     cells: str = "triangle"  # "triangle" or "quadrilateral"
     degree: int = 2  # displacement order
-    settlement: float = 0.03  # final footing settlement [m]
-    steps: int = 30  # displacement increments
+    settlement: float = 0.08  # final footing settlement [m]
+    steps: int = 40  # displacement increments
+    plateau: float = 0.001  # stop once the pressure rises less than this (relative) over the
+    #                         last 10 % of the push (after half of it); 0 = push to the end
     case_id: str = "C6"  # label in the summary
 
 
@@ -84,7 +86,16 @@ def main(out: str | Path = "results/bearing_capacity", **overrides) -> dict:
         solver.reset_displacement()
     base_force = solver.reaction("footing", 1)  # the self-weight share of the footing force
     solver.monitors["pressure"] = lambda: -(solver.reaction("footing", 1) - base_force) / b
-    analysis = solver.ramp(1.0, p.steps)
+    def on_plateau(s: PlasticSolver) -> bool:
+        """The pressure has stopped rising: the limit load is reached."""
+        lam = s.load_factor
+        if p.plateau <= 0 or lam < 0.5:
+            return False
+        past = [r for r in s.history if "pressure" in r.monitors and r.load_factor <= lam - 0.1]
+        return bool(past) and (s.history[-1].monitors["pressure"] - past[-1].monitors[
+            "pressure"]) < p.plateau * s.history[-1].monitors["pressure"]
+
+    analysis = solver.ramp(1.0, p.steps, stop=on_plateau)
     settle = np.array([0.0] + [r.load_factor * p.settlement for r in solver.history
                                if "pressure" in r.monitors])
     pressure = np.array([0.0] + [r.monitors["pressure"] for r in solver.history

@@ -1,0 +1,107 @@
+"""Handover continuum -> discrete: H1 (no jump), conservation, region choice, MPI = serial."""
+
+import subprocess
+
+import numpy as np
+import pytest
+
+from conftest import PYTHON, ROOT
+from hybrid.handover import Region, settle, to_discrete
+
+_SCRIPT = """
+import sys
+import numpy as np
+from mpi4py import MPI
+from hybrid.case import load_case
+from hybrid.handover import Region, to_discrete
+m = load_case("cases/slope_gravity.py")
+state = m.solve(m.Parameters(size=2.0, flat=30.0, degree={degree}, cells="{cells}"))
+h = to_discrete(state, region=Region(everywhere=True))
+if MPI.COMM_WORLD.rank == 0:
+    h.discrete.save(sys.argv[1])
+"""
+
+
+def _slope_state(case, degree=2, cells="triangle"):
+    m = case("slope_gravity")
+    return m.solve(m.Parameters(size=2.0, flat=30.0, degree=degree, cells=cells))
+
+
+@pytest.mark.parametrize(("degree", "cells"), [(1, "quadrilateral"), (2, "triangle")])
+def test_h1_no_jump_at_handover(case, degree, cells):
+    """H1: after 2 000 tied steps the stress change is < 2 % of the max stress (target bar),
+    the velocities have died out and the out-of-balance force has dropped by > 1e3."""
+    state = _slope_state(case, degree, cells)
+    h = to_discrete(state, region=Region(everywhere=True))
+    report = settle(h, steps=2000)
+    assert report.stress_change < 0.02
+    assert report.max_velocity < 1e-6  # m/s, against ~1e-1 m of gravity settlement
+    assert report.final_residual < 1e-3 * report.initial_residual
+    # the settle moves the discrete start by a small fraction of the continuum displacement
+    u_max = float(np.max(np.abs(state.u.x.array)))
+    assert report.max_displacement < 0.02 * u_max
+
+
+def test_conservation_and_mapping(case):
+    """Element count and mass are carried exactly; Q1 2x2 stresses map point by point."""
+    state = _slope_state(case, degree=1, cells="quadrilateral")
+    h = to_discrete(state)
+    d = h.discrete
+    cells = state.comm.allreduce(state.model.mesh.num_owned_cells)
+    assert d.n_elements == cells and d.n_nodes == 4 * cells
+    # total mass = integral of gamma / g over the deformed mesh (small strain: 1e-3)
+    area = state.comm.allreduce(float(np.sum(_areas(state))))
+    assert d.mass.sum() == pytest.approx(20.0 / 9.81 * area, rel=1e-3)
+    # Gauss-point stresses of the same rule are carried unchanged (as a set per cell)
+    n = state.model.mesh.num_owned_cells
+    order = np.argsort(state.mesh.topology.original_cell_index[:n])  # the discrete order
+    np.testing.assert_allclose(np.sort(d.stress[:, :, 1], axis=1),
+                               np.sort(state.stress[order, :, 1], axis=1), rtol=1e-12,
+                               atol=1e-9)
+    assert h.report["stress_mapping"] == "point by point"
+    # supports carried: base nodes held in both directions, side nodes horizontally
+    base = h.boundary_nodes["base"]
+    assert d.fixed[base].all()
+    assert d.fixed[h.boundary_nodes["left"], 0].all()
+
+
+def test_region_selection(case):
+    """Region by plastic strain (none in an elastic state), by layers, everywhere."""
+    state = _slope_state(case)
+    none = to_discrete(state)  # elastic: nothing yielded -> no splittable interface
+    assert none.report["splittable_interfaces"] == 0
+    every = to_discrete(state, region=Region(everywhere=True))
+    assert every.report["splittable_interfaces"] == every.report["interfaces"]
+    frozen = to_discrete(state, region=Region(everywhere=True), freeze_layers=0)
+    assert frozen.report["frozen_elements"] == 0
+
+
+def _areas(state):
+    x, cells = state.model.mesh.cell_vertices()
+    p = x[cells]
+    return 0.5 * np.abs(np.sum(p[:, :, 0] * np.roll(p[:, :, 1], -1, 1)
+                               - np.roll(p[:, :, 0], -1, 1) * p[:, :, 1], axis=1))
+
+
+@pytest.mark.mpi
+def test_mpi_handover_equals_serial(tmp_path):
+    """A handover from an mpirun -n 2 continuum gives the serial discrete start (1e-9)."""
+    import os
+    import shutil
+
+    if shutil.which("mpirun") is None:
+        pytest.skip("mpirun not installed")
+    script = tmp_path / "h.py"
+    script.write_text(_SCRIPT.format(degree=2, cells="triangle"))
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
+               NUMBA_NUM_THREADS="1", OMPI_MCA_rmaps_base_oversubscribe="1")
+    for n, name in ((1, "serial.npz"), (2, "mpi.npz")):
+        cmd = ["mpirun", "-n", "2", PYTHON, str(script), str(tmp_path / name)] if n == 2 else [
+            PYTHON, str(script), str(tmp_path / name)]
+        r = subprocess.run(cmd, cwd=ROOT, env=env, capture_output=True, text=True, timeout=300)
+        assert r.returncode == 0, r.stderr
+    a, b = np.load(tmp_path / "serial.npz"), np.load(tmp_path / "mpi.npz")
+    for key in ("element_nodes", "node_group", "interface_nodes", "fixed"):
+        np.testing.assert_array_equal(a[key], b[key])
+    for key in ("x", "mass", "stress"):
+        np.testing.assert_allclose(b[key], a[key], rtol=1e-9, atol=1e-9 * np.abs(a[key]).max())
