@@ -107,7 +107,7 @@ def _gather(state: Any) -> dict[str, Any] | None:
     f2v, f2c = msh.topology.connectivity(1, 0), msh.topology.connectivity(1, 2)
     geo_of_vertex = _vertex_to_geometry(msh)
     facets = []
-    for name, tag in md.facet_groups.items():
+    for tag in md.facet_groups.values():
         for f in md.facet_tags.find(tag):
             c = f2c.links(f)[0]
             if c >= n:

@@ -4,8 +4,8 @@ import subprocess
 
 import numpy as np
 import pytest
-
 from conftest import PYTHON, ROOT
+
 from hybrid.handover import Region, settle, to_discrete
 
 _SCRIPT = """
