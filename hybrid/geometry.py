@@ -80,14 +80,20 @@ class MeshData:
     def cell_vertices(self) -> tuple[np.ndarray, np.ndarray]:
         """(coordinates (n_vertices, 2), owned cells' geometry nodes (n_cells, 3|4)).
 
-        Quadrilateral nodes are returned counter-clockwise (dolfinx stores them in tensor
-        order 0-1-3-2).
+        Nodes are returned counter-clockwise (dolfinx stores quadrilaterals in tensor order
+        0-1-3-2, and either orientation).
         """
         x = self.mesh.geometry.x[:, :2]
         dofs = self.mesh.geometry.dofmap.array.reshape(-1, 4 if self.is_quad else 3)
         dofs = dofs[: self.num_owned_cells]
         if self.is_quad:
             dofs = dofs[:, [0, 1, 3, 2]]
+        # dolfinx keeps gmsh's orientation cell by cell: turn clockwise cells around
+        p = x[dofs]
+        area = np.sum(p[:, :, 0] * np.roll(p[:, :, 1], -1, axis=1)
+                      - np.roll(p[:, :, 0], -1, axis=1) * p[:, :, 1], axis=1)
+        dofs = dofs.copy()
+        dofs[area < 0] = dofs[area < 0, ::-1]
         return x, dofs
 
     @property

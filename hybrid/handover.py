@@ -35,7 +35,9 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+import ufl
 
+from hybrid.continuum.quadrature import evaluate_at_points
 from hybrid.model import Displacement, Fixed, Pressure, Roller, Traction
 
 __all__ = ["Region", "Handover", "to_discrete", "settle", "SettleReport", "residual_force"]
@@ -114,8 +116,9 @@ def _gather(state: Any) -> dict[str, Any] | None:
                 continue  # counted by the owning rank
             verts = geo_of_vertex[f2v.links(f)]
             facets.append((tag, int(gid[verts[0]]), int(gid[verts[1]]), int(original[c])))
+    qp = evaluate_at_points(state.disc, ufl.SpatialCoordinate(msh))  # (n, nqp, 2) [m]
     local = {
-        "cells": gid[cells], "original": original, "x": xu, "x0": x.copy(), "gid": gid,
+        "qp": qp, "cells": gid[cells], "original": original, "x": xu, "x0": x.copy(), "gid": gid,
         "material": state.model.material_ids(), "stress": state.stress,
         "plastic": state.plastic_strain, "yielded": state.yielded, "facets": facets,
     }
@@ -129,7 +132,7 @@ def _gather(state: Any) -> dict[str, Any] | None:
         coords[p["gid"]] = p["x"]
         coords0[p["gid"]] = p["x0"]
     cat = {k: np.concatenate([p[k] for p in parts])[order]
-           for k in ("cells", "original", "material", "stress", "plastic", "yielded")}
+           for k in ("cells", "original", "material", "stress", "plastic", "yielded", "qp")}
     cat["x"], cat["x0"] = coords, coords0
     cat["facets"] = sorted(f for p in parts for f in p["facets"])
     return cat
@@ -175,19 +178,34 @@ def _grow(cells: np.ndarray, inside: np.ndarray, layers: int) -> np.ndarray:
     return inside
 
 
-def _carry_points(values: np.ndarray, n_discrete: int, exact: bool, quad: bool,
-                  continuum_points: np.ndarray | None) -> np.ndarray:
-    """Map (n, nqp, ...) continuum point values onto the discrete Gauss points."""
-    if exact:
-        if not quad:
-            return values.copy()
-        from hybrid.discrete.state import Q4_GAUSS
+def _carry_points(values: np.ndarray, n_discrete: int, exact: bool,
+                  match: np.ndarray | None) -> np.ndarray:
+    """Map (n, nqp, ...) continuum point values onto the discrete Gauss points.
 
-        ref = 2.0 * continuum_points - 1.0  # basix [0, 1]^2 -> [-1, 1]^2, same orientation
-        match = [int(np.argmin(np.sum((ref - g) ** 2, axis=1))) for g in Q4_GAUSS]
-        return values[:, match].copy()
+    ``exact``: the same rule; ``match[e, k]`` is the continuum point at discrete point k.
+    Otherwise the cell mean goes to every discrete point.
+    """
+    if exact:
+        return np.take_along_axis(values, match.reshape(match.shape + (1,) * (values.ndim - 2)),
+                                  axis=1).copy()
     mean = values.mean(axis=1, keepdims=True)
     return np.repeat(mean, n_discrete, axis=1)
+
+
+def _match_points(disc: Any, qp: np.ndarray) -> np.ndarray:
+    """For each element and discrete Gauss point, the nearest continuum quadrature point."""
+    xe = disc.x[disc.element_nodes]  # (n, nen, 2), current = continuum geometry + u
+    if disc.nen == 4:
+        from hybrid.discrete.state import Q4_GAUSS
+
+        xi, eta = Q4_GAUSS[:, 0], Q4_GAUSS[:, 1]
+        shape = 0.25 * np.stack([(1 - xi) * (1 - eta), (1 + xi) * (1 - eta),
+                                 (1 + xi) * (1 + eta), (1 - xi) * (1 + eta)], axis=1)
+        gp = np.einsum("ka,nad->nkd", shape, xe)
+    else:
+        gp = xe.mean(axis=1, keepdims=True)
+    dist = np.sum((gp[:, :, None, :] - qp[:, None, :, :]) ** 2, axis=-1)
+    return np.argmin(dist, axis=2)
 
 
 def to_discrete(state: Any, *, region: Region | None = None,
@@ -214,11 +232,17 @@ def to_discrete(state: Any, *, region: Region | None = None,
     nen = data["cells"].shape[1]
     ngp = disc.stress.shape[1]
     exact = state.disc.degree == 1 and state.disc.num_points == ngp
-    pts = state.disc.points if md.is_quad else None
-    disc.stress[:] = _carry_points(data["stress"], ngp, exact, md.is_quad, pts)
+    # continuum points sit on the undeformed cells: match them on the undeformed geometry
+    match = None
     if exact:
-        disc.plastic_strain[:] = _carry_points(data["plastic"], ngp, True, md.is_quad, pts)
-        disc.yielded[:] = _carry_points(data["yielded"], ngp, True, md.is_quad, pts)
+        moved = disc.x.copy()
+        disc.x[:] = data["x0"][data["cells"]].reshape(-1, 2)
+        match = _match_points(disc, data["qp"])
+        disc.x[:] = moved
+    disc.stress[:] = _carry_points(data["stress"], ngp, exact, match)
+    if exact:
+        disc.plastic_strain[:] = _carry_points(data["plastic"], ngp, True, match)
+        disc.yielded[:] = _carry_points(data["yielded"], ngp, True, match)
     else:
         disc.plastic_strain[:] = data["plastic"].max(axis=1, keepdims=True)
         disc.yielded[:] = np.any(data["yielded"] > 0, axis=1, keepdims=True).astype(np.int8)

@@ -58,6 +58,22 @@ def test_conservation_and_mapping(case):
     np.testing.assert_allclose(np.sort(d.stress[:, :, 1], axis=1),
                                np.sort(state.stress[order, :, 1], axis=1), rtol=1e-12,
                                atol=1e-9)
+    # ... and point by point: each discrete Gauss point gets the stress of the continuum
+    # quadrature point at the same place (the 2x2 rules coincide)
+    import ufl
+
+    from hybrid.continuum.quadrature import evaluate_at_points
+    from hybrid.discrete.state import Q4_GAUSS
+
+    qp = evaluate_at_points(state.disc, ufl.SpatialCoordinate(state.mesh))[order]
+    x0 = d.x_ref  # handover geometry (deformed by u: the match is unaffected)
+    xi, eta = Q4_GAUSS[:, 0], Q4_GAUSS[:, 1]
+    shape = 0.25 * np.stack([(1 - xi) * (1 - eta), (1 + xi) * (1 - eta),
+                             (1 + xi) * (1 + eta), (1 - xi) * (1 + eta)], axis=1)
+    gp = np.einsum("ka,nad->nkd", shape, x0[d.element_nodes])
+    nearest = np.argmin(np.sum((gp[:, :, None] - qp[:, None]) ** 2, axis=-1), axis=2)
+    expected = np.take_along_axis(state.stress[order, :, 1], nearest, axis=1)
+    np.testing.assert_allclose(d.stress[:, :, 1], expected, rtol=1e-12, atol=1e-9)
     assert h.report["stress_mapping"] == "point by point"
     # supports carried: base nodes held in both directions, side nodes horizontally
     base = h.boundary_nodes["base"]
