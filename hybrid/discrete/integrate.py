@@ -1,0 +1,210 @@
+"""One explicit step of the discrete engine and the stable time step.
+
+Central differences with lumped mass and velocity ties (thesis eqs 3.4-3.17, 4.27-4.29):
+for every tie group (a loop over disjoint groups, ``prange`` without races) the forces
+R = F_ext + m g + F_contact - I and masses of its members are summed, one acceleration is
+taken, and every member gets the same velocity (thesis eq 3.12, mass-proportional damping):
+
+    v(t+dt/2) = ((2 - alpha dt) / (2 + alpha dt)) v(t-dt/2) + (2 dt / (2 + alpha dt)) R / m,
+
+optionally with Cundall's local non-viscous damping R_i -= d |R_i| sign(v_i) (quasi-static
+phases); fixed components take their prescribed velocity; then x += dt v. The element kernel
+then updates the stresses for du = dt v and computes I on the new configuration.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+import hybrid  # noqa: F401  (numba environment first)
+from hybrid.discrete.elements import element_forces
+from hybrid.discrete.state import DiscreteState
+
+import numba  # isort: skip
+
+__all__ = ["stable_time_step", "step", "prime", "kinetic_energy", "check_dt"]
+
+
+@numba.njit(cache=True, parallel=True)
+def _group_update(group_ptr, group_nodes, group_mass, internal_force, contact_force,
+                  use_contact, external_force, gravity, fixed, prescribed_velocity, alpha,
+                  local_damping, dt, v, x, group_energy):
+    """Tie-group reduction + damped central-difference update; writes v, x, group_energy.
+
+    group_energy[g] += [work of loads and gravity, work of the supports (reactions of fixed /
+    prescribed-velocity components), mass-damping dissipation, local-damping dissipation]
+    over the step, with the step velocity v(t+dt/2) (dissipation with the mean velocity).
+    """
+    ng = group_ptr.shape[0] - 1
+    c1 = (2.0 - alpha * dt) / (2.0 + alpha * dt)
+    c2 = 2.0 * dt / (2.0 + alpha * dt)
+    gx = gravity[0]
+    gy = gravity[1]
+    for gi in numba.prange(ng):
+        s = group_ptr[gi]
+        t = group_ptr[gi + 1]
+        m = group_mass[gi]
+        ex = m * gx
+        ey = m * gy
+        fx = 0.0
+        fy = 0.0
+        fixx = False
+        fixy = False
+        pvx = 0.0
+        pvy = 0.0
+        for k in range(s, t):
+            i = group_nodes[k]
+            ex += external_force[i, 0]
+            ey += external_force[i, 1]
+            fx -= internal_force[i, 0]
+            fy -= internal_force[i, 1]
+            if use_contact:
+                fx += contact_force[i, 0]
+                fy += contact_force[i, 1]
+            if fixed[i, 0] and not fixx:
+                fixx = True
+                pvx = prescribed_velocity[i, 0]
+            if fixed[i, 1] and not fixy:
+                fixy = True
+                pvy = prescribed_velocity[i, 1]
+        fx += ex
+        fy += ey
+        first = group_nodes[s]
+        vox = v[first, 0]
+        voy = v[first, 1]
+        dlx = 0.0
+        dly = 0.0
+        if local_damping > 0.0:
+            if vox > 0.0:
+                dlx = -local_damping * abs(fx)
+            elif vox < 0.0:
+                dlx = local_damping * abs(fx)
+            if voy > 0.0:
+                dly = -local_damping * abs(fy)
+            elif voy < 0.0:
+                dly = local_damping * abs(fy)
+        vnx = pvx if fixx else c1 * vox + c2 * (fx + dlx) / m
+        vny = pvy if fixy else c1 * voy + c2 * (fy + dly) / m
+        for k in range(s, t):
+            i = group_nodes[k]
+            v[i, 0] = vnx
+            v[i, 1] = vny
+            x[i, 0] += dt * vnx
+            x[i, 1] += dt * vny
+        # energy of the step; dissipation with the mean velocity of the step
+        vax = 0.5 * (vox + vnx)
+        vay = 0.5 * (voy + vny)
+        wsup = 0.0  # support reaction r from v+ = c1 v- + c2 (f + r) / m, times v+ dt
+        if fixx:
+            wsup += (m * (vnx - c1 * vox) / c2 - fx) * vnx * dt
+        if fixy:
+            wsup += (m * (vny - c1 * voy) / c2 - fy) * vny * dt
+        group_energy[gi, 0] += (ex * vnx + ey * vny) * dt
+        group_energy[gi, 1] += wsup
+        group_energy[gi, 2] += alpha * m * (vax * vax + vay * vay) * dt
+        group_energy[gi, 3] -= (dlx * vax + dly * vay) * dt
+
+
+@numba.njit(cache=True)
+def _critical_dt(x, element_nodes, element_material, material_table, density, contact_table,
+                 mass, with_contact):
+    """min over elements of L_min / c_p, L_min = A / longest edge (Q4), 2A / longest edge
+    (T3), c_p = sqrt((K + 4G/3) / rho); with contact also sqrt(m_e / (k_n L_max))."""
+    ne = element_nodes.shape[0]
+    nen = element_nodes.shape[1]
+    best = np.inf
+    for e in range(ne):
+        area = 0.0
+        lmax = 0.0
+        me = 0.0
+        for a in range(nen):
+            i = element_nodes[e, a]
+            j = element_nodes[e, (a + 1) % nen]
+            area += 0.5 * (x[i, 0] * x[j, 1] - x[j, 0] * x[i, 1])
+            ln = math.sqrt((x[j, 0] - x[i, 0]) ** 2 + (x[j, 1] - x[i, 1]) ** 2)
+            lmax = max(lmax, ln)
+            me += mass[i]
+        m = element_material[e]
+        cp = math.sqrt((material_table[m, 0] + 4.0 * material_table[m, 1] / 3.0) / density[m])
+        lmin = area / lmax if nen == 4 else 2.0 * area / lmax
+        best = min(best, lmin / cp)
+        if with_contact:
+            best = min(best, math.sqrt(me / (contact_table[m, 0] * lmax)))
+    return best
+
+
+def stable_time_step(state: DiscreteState, *, contact: bool | None = None) -> float:
+    """Critical time step [s] of the central-difference scheme for this state.
+
+    Mesh: min over elements of L_min / c_p (L_min = A / longest edge for Q4, the smallest
+    altitude 2A / longest edge for T3; c_p = sqrt((K + 4G/3) / rho)), a lower bound of the
+    Flanagan-Belytschko estimate 2 / omega_max. Contact (when ``contact`` is True, or None and
+    the state has rigid bodies or several bodies): sqrt(m_e / (k_n L_e)), i.e. 2 sqrt(m/k)
+    with a quarter of the element mass on a node and the normal stiffness k_n L_e of an
+    overlap along one edge. No safety factor is applied here.
+    """
+    if contact is None:
+        contact = state.contact_pairs.shape[0] > 0
+    return float(_critical_dt(state.x, state.element_nodes, state.element_material,
+                              state.material_table, state.density, state.contact_table,
+                              state.mass, bool(contact)))
+
+
+def check_dt(state: DiscreteState, dt: float, *, contact: bool | None = None) -> float:
+    """Validate a user time step: refuse dt above the stable limit, naming the limit."""
+    crit = stable_time_step(state, contact=contact)
+    if not (math.isfinite(dt) and dt > 0.0):
+        raise ValueError(f"dt = {dt!r}: must be a finite positive number [s]")
+    if dt > crit:
+        raise ValueError(f"dt = {dt:.4g} s is above the stable time step {crit:.4g} s of this "
+                         f"mesh/contact stiffness: use dt <= {crit:.4g} s (e.g. 0.5 x that)")
+    return crit
+
+
+def prime(state: DiscreteState) -> None:
+    """Compute the internal force on the current configuration (no stress increment) and
+    the tie groups' masses."""
+    state.refresh_groups()
+    zero = np.zeros_like(state.v)
+    element_forces(state.x, zero, 0.0, state.element_nodes, state.element_material,
+                   state.material_table, state.elastic_only, state.stress,
+                   state.plastic_strain, state.yielded, state.internal_force)
+    state.primed = True
+
+
+def step(state: DiscreteState, dt: float, *, alpha: float = 0.0, local_damping: float = 0.0,
+         contact_force: np.ndarray | None = None, bbar: bool = True) -> None:
+    """Advance the state by one explicit step of size dt [s] (hot path: only scalar checks;
+    ``run`` checks dt against the stable step once).
+
+    ``contact_force`` (n_nodes, 2), if given, holds the contact forces at the current
+    configuration (from ``hybrid.discrete.contact.contact_forces``).
+    """
+    if not (dt > 0.0 and math.isfinite(dt)):
+        raise ValueError(f"dt = {dt!r}: must be a finite positive time step [s]")
+    if not (alpha >= 0.0 and 0.0 <= local_damping < 1.0):
+        raise ValueError(f"alpha = {alpha!r} must be >= 0 and local_damping = "
+                         f"{local_damping!r} in [0, 1)")
+    if not state.primed:
+        prime(state)
+    use_c = contact_force is not None
+    cf = contact_force if use_c else _EMPTY
+    _group_update(state.group_ptr, state.group_nodes, state.group_mass, state.internal_force,
+                  cf, use_c, state.external_force, state.gravity, state.fixed,
+                  state.prescribed_velocity, float(alpha), float(local_damping), float(dt),
+                  state.v, state.x, state.group_energy)
+    element_forces(state.x, state.v, float(dt), state.element_nodes, state.element_material,
+                   state.material_table, state.elastic_only, state.stress, state.plastic_strain,
+                   state.yielded, state.internal_force, bbar)
+    state.time += dt
+    state.step += 1
+
+
+_EMPTY = np.zeros((1, 2))
+
+
+def kinetic_energy(state: DiscreteState) -> float:
+    """1/2 sum m v.v over the nodes (tied members share a velocity) [kJ/m]."""
+    return 0.5 * float(np.dot(state.mass, np.einsum("ij,ij->i", state.v, state.v)))

@@ -1,0 +1,436 @@
+"""The discrete engine's state: one dataclass of contiguous arrays (structure of arrays).
+
+Every element owns its nodes (an interior mesh vertex shared by four elements is four nodes at
+one place); coincident nodes are *tied* (they share one velocity) while the material between
+them is intact. Units: m, kN, kPa, s, t/m3; per unit thickness (plane strain).
+Sign convention: tension positive. Stress in Voigt order (xx, yy, zz, xy).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, fields
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["DiscreteMaterial", "DiscreteState", "from_mesh", "material_rows", "check_elements",
+           "groups_csr", "Q4_GAUSS"]
+
+# Q4 2x2 Gauss points, point k next to node k (counter-clockwise corner order).
+_G = 1.0 / math.sqrt(3.0)
+Q4_GAUSS = np.array([[-_G, -_G], [_G, -_G], [_G, _G], [-_G, _G]])
+
+
+@dataclass(frozen=True)
+class DiscreteMaterial:
+    """Material of discrete elements (SI: kPa, t/m3, degrees for angles).
+
+    Elastic part: Young's modulus ``E`` [kPa], Poisson ratio ``nu``, ``density`` [t/m3].
+    Plasticity (Mohr-Coulomb, used when ``plastic`` is True): ``cohesion`` [kPa], friction
+    ``phi_deg`` and dilation ``psi_deg`` angles, ``tensile_strength`` [kPa] (tension cut-off).
+    Splitting of interfaces (section 4.5 of the thesis): ``interface_cohesion``,
+    ``interface_phi_deg``, ``interface_tensile_strength`` (defaults: inf, never splits).
+    Contact: ``contact_kn`` [kPa/m] (F_n = k_n * overlap area; None: 10 E / element size),
+    ``contact_kt`` [kPa/m] (tangential spring per unit overlap area; None: equal to k_n),
+    ``contact_phi_deg`` (None: phi_deg), ``contact_damping`` (normal damping ratio zeta).
+    """
+
+    E: float
+    nu: float
+    density: float
+    plastic: bool = False
+    cohesion: float = 0.0
+    phi_deg: float = 0.0
+    psi_deg: float = 0.0
+    tensile_strength: float = math.inf
+    interface_cohesion: float = math.inf
+    interface_phi_deg: float = 0.0
+    interface_tensile_strength: float = math.inf
+    contact_kn: float | None = None
+    contact_kt: float | None = None
+    contact_phi_deg: float | None = None
+    contact_damping: float = 0.0
+
+    def __post_init__(self) -> None:
+        def bad(name: str, why: str) -> None:
+            raise ValueError(f"DiscreteMaterial.{name} = {getattr(self, name)!r}: {why}")
+
+        for name in ("E", "density"):
+            v = getattr(self, name)
+            if not (math.isfinite(v) and v > 0.0):
+                bad(name, "must be a finite positive number (stiffness in kPa, density in t/m3)")
+        if not (-1.0 < self.nu < 0.5):
+            bad("nu", "Poisson ratio must lie in (-1, 0.5)")
+        for name in ("cohesion", "tensile_strength", "interface_cohesion",
+                     "interface_tensile_strength", "contact_damping"):
+            if not getattr(self, name) >= 0.0:
+                bad(name, "must be >= 0")
+        for name in ("phi_deg", "psi_deg", "interface_phi_deg"):
+            if not 0.0 <= getattr(self, name) < 90.0:
+                bad(name, "angle must be in [0, 90) degrees")
+        if self.psi_deg > self.phi_deg:
+            bad("psi_deg", "dilation angle must not exceed the friction angle")
+        for name in ("contact_kn", "contact_kt"):
+            v = getattr(self, name)
+            if v is not None and not (math.isfinite(v) and v > 0.0):
+                bad(name, "contact stiffness must be a finite positive number [kPa/m]")
+        if self.contact_phi_deg is not None and not 0.0 <= self.contact_phi_deg < 90.0:
+            bad("contact_phi_deg", "angle must be in [0, 90) degrees")
+
+    @property
+    def bulk_modulus(self) -> float:
+        """K = E / (3 (1 - 2 nu)) [kPa]."""
+        return self.E / (3.0 * (1.0 - 2.0 * self.nu))
+
+    @property
+    def shear_modulus(self) -> float:
+        """G = E / (2 (1 + nu)) [kPa]."""
+        return self.E / (2.0 * (1.0 + self.nu))
+
+
+def _as_discrete(m, i: int) -> DiscreteMaterial:
+    """A DiscreteMaterial from itself or from a ``hybrid.materials.Material`` (whose
+    interface strengths default to the material's own c, phi and tensile strength)."""
+    if isinstance(m, DiscreteMaterial):
+        return m
+    try:
+        from hybrid.materials import Material
+    except ImportError:  # pragma: no cover
+        Material = None
+    if Material is None or not isinstance(m, Material):
+        raise ValueError(f"materials[{i}] is {type(m).__name__}: expected DiscreteMaterial or "
+                         "hybrid.materials.Material")
+    if m.density <= 0.0:
+        raise ValueError(f"materials[{i}] ('{m.name}') has unit_weight {m.unit_weight}: the "
+                         "discrete engine needs mass, give unit_weight > 0 kN/m3")
+    ft = m.resolved_tensile_strength()
+    return DiscreteMaterial(
+        E=m.E, nu=m.nu, density=m.density, plastic=m.is_plastic, cohesion=m.cohesion,
+        phi_deg=m.phi, psi_deg=m.psi, tensile_strength=ft,
+        interface_cohesion=m.cohesion if m.interface_cohesion is None else m.interface_cohesion,
+        interface_phi_deg=m.phi if m.interface_phi is None else m.interface_phi,
+        interface_tensile_strength=(ft if m.interface_tensile_strength is None
+                                    else m.interface_tensile_strength),
+        contact_kn=m.contact_stiffness, contact_phi_deg=m.contact_phi)
+
+
+def material_rows(materials, element_size: float):
+    """Material tables of the state layout from a sequence of DiscreteMaterial.
+
+    Entries may also be ``hybrid.materials.Material`` (converted with its own defaults).
+    Returns (material_table (n, 7), density (n,), elastic_only (n,), interface_table (n, 3),
+    contact_table (n, 4)); ``element_size`` [m] sets the default contact stiffness 10 E / size.
+    """
+    n = len(materials)
+    mt = np.zeros((n, 7))
+    dens = np.zeros(n)
+    el = np.zeros(n, dtype=bool)
+    it = np.zeros((n, 3))
+    ct = np.zeros((n, 4))
+    for i, m in enumerate(materials):
+        m = _as_discrete(m, i)
+        phi = math.radians(m.phi_deg)
+        ft = m.tensile_strength if math.isfinite(m.tensile_strength) else 1e30
+        mt[i] = [m.bulk_modulus, m.shear_modulus, m.cohesion, math.sin(phi), math.cos(phi),
+                 math.sin(math.radians(m.psi_deg)), ft]
+        dens[i] = m.density
+        el[i] = not m.plastic
+        it[i] = [m.interface_cohesion, math.tan(math.radians(m.interface_phi_deg)),
+                 m.interface_tensile_strength]
+        kn = m.contact_kn if m.contact_kn is not None else 10.0 * m.E / element_size
+        kt = m.contact_kt if m.contact_kt is not None else kn
+        phic = m.contact_phi_deg if m.contact_phi_deg is not None else m.phi_deg
+        ct[i] = [kn, kt, math.tan(math.radians(phic)), m.contact_damping]
+    return mt, dens, el, it, ct
+
+
+@dataclass
+class DiscreteState:
+    """All arrays of the discrete engine (see module docstring; shapes and units per field)."""
+
+    x: np.ndarray  # (n_nodes, 2) current coordinates [m]
+    x_ref: np.ndarray  # (n_nodes, 2) coordinates at creation [m]
+    v: np.ndarray  # (n_nodes, 2) velocity at t - dt/2 [m/s]
+    mass: np.ndarray  # (n_nodes,) lumped mass [t per m thickness]
+    element_nodes: np.ndarray  # (n_elements, nen) int64, counter-clockwise, nen 4 (Q4) or 3 (T3)
+    element_material: np.ndarray  # (n_elements,) int32 index into the material tables
+    stress: np.ndarray  # (n_elements, ngp, 4) Cauchy stress at Gauss points [kPa]
+    plastic_strain: np.ndarray  # (n_elements, ngp) accumulated plastic strain measure [-]
+    yielded: np.ndarray  # (n_elements, ngp) int8, 1 where the last update yielded
+    node_group: np.ndarray  # (n_nodes,) int64 tie-group id of each node
+    group_ptr: np.ndarray  # (n_groups + 1,) int64 CSR pointers into group_nodes
+    group_nodes: np.ndarray  # (n_nodes,) int64 nodes of each group, ascending within a group
+    interface_elements: np.ndarray  # (n_if, 2) int64 elements A, B sharing an edge
+    interface_nodes: np.ndarray  # (n_if, 4) int64 [a0, a1, b0, b1]; b0 at a0, b1 at a1
+    interface_intact: np.ndarray  # (n_if,) bool
+    interface_splittable: np.ndarray  # (n_if,) bool, splitting checked only where True
+    fixed: np.ndarray  # (n_nodes, 2) bool, velocity held at prescribed_velocity
+    prescribed_velocity: np.ndarray  # (n_nodes, 2) [m/s]
+    external_force: np.ndarray  # (n_nodes, 2) [kN/m]
+    material_table: np.ndarray  # (n_mat, 7) [K, G, c, sin_phi, cos_phi, sin_psi, tensile] (kPa)
+    density: np.ndarray  # (n_mat,) [t/m3]
+    elastic_only: np.ndarray  # (n_mat,) bool, skip the Mohr-Coulomb return
+    interface_table: np.ndarray  # (n_mat, 3) [cohesion kPa, tan_phi, tensile_strength kPa]
+    contact_table: np.ndarray  # (n_mat, 4) [k_n kPa/m, k_t kPa/m, mu, zeta]
+    gravity: np.ndarray = field(default_factory=lambda: np.array([0.0, -9.81]))  # (2,) [m/s2]
+    time: float = 0.0  # [s]
+    step: int = 0
+    # engine work arrays (part of the state so that a checkpoint restarts bit for bit)
+    internal_force: np.ndarray | None = None  # (n_nodes, 2) I = sum B^T sigma dA [kN/m]
+    group_mass: np.ndarray | None = None  # (n_groups,) summed lumped mass per tie group [t/m]
+    group_energy: np.ndarray | None = None  # (n_groups, 4) [work of loads and gravity, work of
+    #     supports, mass-damping and local-damping dissipation] accumulated per group [kJ/m]
+    ledger: np.ndarray | None = None  # (8,) [friction, contact damping, then group_energy's
+    #     four columns folded in when groups are renumbered, -, -] [kJ/m]
+    contact_pairs: np.ndarray | None = None  # (n_pairs, 2) int64 current candidate pairs
+    contact_shear: np.ndarray | None = None  # (n_pairs, 2) tangential spring force history [kN/m]
+    primed: bool = False  # internal_force consistent with (x, stress)
+    dt: float = 0.0  # time step of the last run [s] (reused on restart when dt is not given)
+
+    def __post_init__(self) -> None:
+        n = self.x.shape[0]
+        if self.internal_force is None:
+            self.internal_force = np.zeros((n, 2))
+        if self.group_mass is None:
+            self.group_mass = np.zeros(self.n_groups)
+            self.refresh_groups()
+        if self.group_energy is None:
+            self.group_energy = np.zeros((self.n_groups, 4))
+        if self.ledger is None:
+            self.ledger = np.zeros(8)
+        if self.contact_pairs is None:
+            self.contact_pairs = np.zeros((0, 2), dtype=np.int64)
+        if self.contact_shear is None:
+            self.contact_shear = np.zeros((0, 2))
+
+    # -- sizes ------------------------------------------------------------------------------
+    @property
+    def n_nodes(self) -> int:
+        return int(self.x.shape[0])
+
+    @property
+    def n_elements(self) -> int:
+        return int(self.element_nodes.shape[0])
+
+    @property
+    def nen(self) -> int:
+        return int(self.element_nodes.shape[1])
+
+    @property
+    def n_groups(self) -> int:
+        return int(self.group_ptr.shape[0] - 1)
+
+    def refresh_groups(self) -> None:
+        """Recompute group_mass from mass and the tie groups (after the groups or masses
+        changed); group_energy is folded into the ledger if the group count changed."""
+        ng = self.n_groups
+        self.group_mass = np.add.reduceat(self.mass[self.group_nodes], self.group_ptr[:-1]) \
+            if ng else np.zeros(0)
+        if self.group_energy is not None and self.group_energy.shape[0] != ng:
+            self.ledger[2:6] += self.group_energy.sum(axis=0)
+            self.group_energy = np.zeros((ng, 4))
+
+    # -- convenience ------------------------------------------------------------------------
+    def fix(self, mask, *, x: bool = True, y: bool = True, velocity=(0.0, 0.0)) -> None:
+        """Hold the velocity of the nodes in ``mask`` (bool (n_nodes,) or indices) at
+        ``velocity`` [m/s] in the chosen directions."""
+        idx = np.flatnonzero(mask) if np.asarray(mask).dtype == bool else np.asarray(mask)
+        for d, on in enumerate((x, y)):
+            if on:
+                self.fixed[idx, d] = True
+                self.prescribed_velocity[idx, d] = velocity[d]
+                self.v[idx, d] = velocity[d]
+        self.primed = False
+
+    def element_centroids(self) -> np.ndarray:
+        """(n_elements, 2) mean of each element's node coordinates [m]."""
+        return self.x[self.element_nodes].mean(axis=1)
+
+    def copy(self) -> DiscreteState:
+        """Deep copy (all arrays copied)."""
+        kw = {}
+        for f in fields(self):
+            v = getattr(self, f.name)
+            kw[f.name] = v.copy() if isinstance(v, np.ndarray) else v
+        return DiscreteState(**kw)
+
+    # -- checkpoints (npz, no pickle) -----------------------------------------------------------
+    def save(self, path: str | Path) -> Path:
+        """Write every field to an ``.npz`` file (no pickle); ``load`` restarts bit for bit."""
+        path = Path(path)
+        arrays = {}
+        for f in fields(self):
+            v = getattr(self, f.name)
+            arrays[f.name] = np.asarray(v)
+        np.savez(path, **arrays)
+        return path if path.suffix == ".npz" else path.with_suffix(path.suffix + ".npz")
+
+    @classmethod
+    def load(cls, path: str | Path) -> DiscreteState:
+        """Read a checkpoint written by ``save``."""
+        with np.load(path, allow_pickle=False) as data:
+            kw = {}
+            for f in fields(cls):
+                if f.name not in data:
+                    raise ValueError(f"checkpoint {path} lacks field {f.name!r}")
+                a = data[f.name]
+                if f.name in ("time", "dt"):
+                    kw[f.name] = float(a)
+                elif f.name == "step":
+                    kw[f.name] = int(a)
+                elif f.name == "primed":
+                    kw[f.name] = bool(a)
+                else:
+                    kw[f.name] = np.ascontiguousarray(a)
+        return cls(**kw)
+
+
+# --------------------------------------------------------------------------------------------
+# construction from a mesh
+# --------------------------------------------------------------------------------------------
+def _signed_areas(p: np.ndarray) -> np.ndarray:
+    """Shoelace signed area of polygons p (n, nen, 2), positive when counter-clockwise."""
+    xs, ys = p[..., 0], p[..., 1]
+    return 0.5 * np.sum(xs * np.roll(ys, -1, axis=1) - np.roll(xs, -1, axis=1) * ys, axis=1)
+
+
+def _q4_detj(p: np.ndarray) -> np.ndarray:
+    """det J at the 2x2 Gauss points of Q4 elements p (n, 4, 2) -> (n, 4)."""
+    out = np.empty((p.shape[0], 4))
+    for g, (xi, eta) in enumerate(Q4_GAUSS):
+        dxi = 0.25 * np.array([-(1 - eta), (1 - eta), (1 + eta), -(1 + eta)])
+        deta = 0.25 * np.array([-(1 - xi), -(1 + xi), (1 + xi), (1 - xi)])
+        j11 = p[:, :, 0] @ dxi
+        j12 = p[:, :, 0] @ deta
+        j21 = p[:, :, 1] @ dxi
+        j22 = p[:, :, 1] @ deta
+        out[:, g] = j11 * j22 - j12 * j21
+    return out
+
+
+def _lumped_mass(p: np.ndarray, rho_e: np.ndarray) -> np.ndarray:
+    """Row-sum lumped nodal masses (n, nen) = rho * integral of N_a over the element [t/m]."""
+    nen = p.shape[1]
+    if nen == 3:
+        return np.repeat((rho_e * _signed_areas(p) / 3.0)[:, None], 3, axis=1)
+    m = np.zeros((p.shape[0], 4))
+    det = _q4_detj(p)
+    for g, (xi, eta) in enumerate(Q4_GAUSS):
+        n = 0.25 * np.array([(1 - xi) * (1 - eta), (1 + xi) * (1 - eta),
+                             (1 + xi) * (1 + eta), (1 - xi) * (1 + eta)])
+        m += (rho_e * det[:, g])[:, None] * n[None, :]
+    return m
+
+
+def check_elements(x: np.ndarray, element_nodes: np.ndarray) -> None:
+    """Raise ValueError naming the first NaN node or inverted / zero-area element."""
+    bad = np.flatnonzero(~np.isfinite(x).all(axis=1))
+    if bad.size:
+        raise ValueError(f"node {bad[0]} has non-finite coordinates {x[bad[0]]}: "
+                         "fix the mesh coordinates (no NaN/inf)")
+    p = x[element_nodes]
+    area = _signed_areas(p)
+    scale = np.maximum(np.ptp(p[..., 0], axis=1), np.ptp(p[..., 1], axis=1)) ** 2
+    if element_nodes.shape[1] == 4:
+        det = _q4_detj(p).min(axis=1) * 4.0
+    else:
+        det = area
+    e = np.flatnonzero(det <= 1e-12 * scale)
+    if e.size:
+        k = int(e[0])
+        kind = "zero-area" if abs(area[k]) <= 1e-12 * scale[k] else "inverted"
+        raise ValueError(
+            f"element {k} is {kind} (signed area {area[k]:.3g} m2, nodes {p[k].tolist()}): "
+            "elements must be counter-clockwise and convex with positive area "
+            "(pass fix_orientation=True to reverse clockwise elements)")
+
+
+def from_mesh(points, cells, cell_material, materials, *, gravity=(0.0, -9.81),
+              fix_orientation: bool = False) -> DiscreteState:
+    """Build a DiscreteState from a conforming mesh.
+
+    points (n_points, 2) [m]; cells (n_elements, nen) point indices, nen 4 (Q4, counter-
+    clockwise) or 3 (T3); cell_material (n_elements,) indices into ``materials`` (a sequence of
+    DiscreteMaterial). Every element gets its own nodes; all nodes at one mesh point form one
+    tie group; every edge shared by two elements becomes an intact, splittable interface.
+    """
+    points = np.ascontiguousarray(np.asarray(points, dtype=float)[:, :2])
+    cells = np.ascontiguousarray(np.asarray(cells, dtype=np.int64))
+    cell_material = np.ascontiguousarray(np.asarray(cell_material, dtype=np.int32))
+    if cells.ndim != 2 or cells.shape[1] not in (3, 4):
+        raise ValueError(f"cells has shape {cells.shape}: expected (n, 4) Q4 or (n, 3) T3")
+    ne, nen = cells.shape
+    if ne == 0:
+        raise ValueError("cells is empty: need at least one element")
+    if cells.min() < 0 or cells.max() >= points.shape[0]:
+        raise ValueError("cells refer to points that do not exist")
+    if cell_material.shape != (ne,):
+        raise ValueError(f"cell_material has shape {cell_material.shape}: expected ({ne},)")
+    if cell_material.min() < 0 or cell_material.max() >= len(materials):
+        raise ValueError("cell_material holds an index outside the materials list")
+    if fix_orientation:
+        cw = _signed_areas(points[cells]) < 0
+        cells[cw] = cells[cw, ::-1]
+    x = points[cells].reshape(-1, 2).copy()
+    element_nodes = np.arange(ne * nen, dtype=np.int64).reshape(ne, nen)
+    check_elements(x, element_nodes)
+
+    size = float(np.sqrt(np.mean(np.abs(_signed_areas(points[cells])))))
+    mt, dens, el, it, ct = material_rows(materials, size)
+    mass = _lumped_mass(points[cells], dens[cell_material]).reshape(-1)
+
+    # tie groups: nodes at one mesh point
+    pt = cells.reshape(-1)
+    uniq, node_group = np.unique(pt, return_inverse=True)
+    node_group = node_group.astype(np.int64)
+    group_ptr, group_nodes = groups_csr(node_group, len(uniq))
+
+    # interfaces: edges shared by two elements
+    loc0 = np.tile(np.arange(nen), ne)
+    e_of = np.repeat(np.arange(ne), nen)
+    p0 = cells[e_of, loc0]
+    p1 = cells[e_of, (loc0 + 1) % nen]
+    key = np.minimum(p0, p1) * (points.shape[0] + 1) + np.maximum(p0, p1)
+    order = np.argsort(key, kind="stable")
+    ks = key[order]
+    same = np.flatnonzero(ks[1:] == ks[:-1])
+    if np.unique(ks, return_counts=True)[1].max() > 2:
+        raise ValueError("an edge is shared by more than two elements: the mesh is not conforming")
+    ia, ib = order[same], order[same + 1]
+    ea, eb = e_of[ia], e_of[ib]
+    a0 = element_nodes[ea, loc0[ia]]
+    a1 = element_nodes[ea, (loc0[ia] + 1) % nen]
+    # B's edge runs the other way (both counter-clockwise): B's edge start is at A's a1
+    b1 = element_nodes[eb, loc0[ib]]
+    b0 = element_nodes[eb, (loc0[ib] + 1) % nen]
+    if np.any(pt[b0] != pt[a0]) or np.any(pt[b1] != pt[a1]):
+        raise ValueError("two elements sharing an edge traverse it in the same direction: "
+                         "an element is clockwise (use fix_orientation=True)")
+    n_if = ea.size
+    st = DiscreteState(
+        x=x, x_ref=x.copy(), v=np.zeros_like(x), mass=mass,
+        element_nodes=element_nodes, element_material=cell_material,
+        stress=np.zeros((ne, 4 if nen == 4 else 1, 4)),
+        plastic_strain=np.zeros((ne, 4 if nen == 4 else 1)),
+        yielded=np.zeros((ne, 4 if nen == 4 else 1), dtype=np.int8),
+        node_group=node_group, group_ptr=group_ptr, group_nodes=group_nodes,
+        interface_elements=np.stack([ea, eb], axis=1).astype(np.int64),
+        interface_nodes=np.stack([a0, a1, b0, b1], axis=1).astype(np.int64),
+        interface_intact=np.ones(n_if, dtype=bool),
+        interface_splittable=np.ones(n_if, dtype=bool),
+        fixed=np.zeros((x.shape[0], 2), dtype=bool),
+        prescribed_velocity=np.zeros_like(x), external_force=np.zeros_like(x),
+        material_table=mt, density=dens, elastic_only=el, interface_table=it,
+        contact_table=ct, gravity=np.asarray(gravity, dtype=float).copy(),
+    )
+    return st
+
+
+def groups_csr(node_group: np.ndarray, n_groups: int) -> tuple[np.ndarray, np.ndarray]:
+    """CSR (group_ptr, group_nodes) of the groups in node_group (ids 0..n_groups-1)."""
+    group_nodes = np.argsort(node_group, kind="stable").astype(np.int64)
+    counts = np.bincount(node_group, minlength=n_groups)
+    group_ptr = np.zeros(n_groups + 1, dtype=np.int64)
+    np.cumsum(counts, out=group_ptr[1:])
+    return group_ptr, group_nodes

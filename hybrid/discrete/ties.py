@@ -1,0 +1,189 @@
+"""Interface failure checks and splitting of tie groups (thesis section 4.5).
+
+For every intact, splittable interface (edge a0-a1 of element A shared with element B) the
+Cauchy stress averaged over the Gauss points next to the edge in both elements (the two
+points nearest the edge for Q4, the single point for T3) gives the traction t = sigma n on the
+edge's unit normal n (outward from A). With sigma_N = t.n (tension positive) and
+tau = |t - sigma_N n| the interface fails
+
+- in tension if sigma_N > tensile_strength, or
+- in shear if tau > c + max(-sigma_N, 0) tan(phi)  (compressive normal stress p = -sigma_N;
+  strictly greater, so that an unloaded cohesionless interface, tau = 0 = c, stays intact),
+
+with the interface properties of the weaker of the two materials (the smaller of each of
+c, tan phi and the tensile strength). A failed interface unties: the tie groups of the edge's
+two vertices are rebuilt as the connected components of the graph "node - intact interface -
+node" among the group's members.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+import hybrid  # noqa: F401
+from hybrid.discrete.state import DiscreteState, groups_csr
+
+import numba  # isort: skip
+
+__all__ = ["check_interfaces", "split_interfaces", "limit_splitting", "FAIL_TENSION",
+           "FAIL_SHEAR"]
+
+FAIL_TENSION = 1
+FAIL_SHEAR = 2
+
+
+@numba.njit(cache=True, inline="always")
+def _local_index(element_nodes, e, node):
+    for k in range(element_nodes.shape[1]):
+        if element_nodes[e, k] == node:
+            return k
+    return -1
+
+
+@numba.njit(cache=True, parallel=True)
+def _failure_kernel(x, element_nodes, element_material, stress, interface_elements,
+                    interface_nodes, interface_intact, interface_splittable, interface_table,
+                    out):
+    """out[i] = 0 (holds), 1 (tension failure) or 2 (shear failure) per interface."""
+    n_if = interface_elements.shape[0]
+    ngp = stress.shape[1]
+    for i in numba.prange(n_if):
+        out[i] = 0
+        if not (interface_intact[i] and interface_splittable[i]):
+            continue
+        ea = interface_elements[i, 0]
+        eb = interface_elements[i, 1]
+        a0 = interface_nodes[i, 0]
+        a1 = interface_nodes[i, 1]
+        sxx = 0.0
+        syy = 0.0
+        sxy = 0.0
+        cnt = 0.0
+        for side in range(2):
+            e = ea if side == 0 else eb
+            # the edge starts at a0 in A and at b1 in B (both counter-clockwise)
+            k = _local_index(element_nodes, e, a0 if side == 0 else interface_nodes[i, 3])
+            if ngp == 1:
+                sxx += stress[e, 0, 0]
+                syy += stress[e, 0, 1]
+                sxy += stress[e, 0, 3]
+                cnt += 1.0
+            else:
+                for gp in (k, (k + 1) % 4):
+                    sxx += stress[e, gp, 0]
+                    syy += stress[e, gp, 1]
+                    sxy += stress[e, gp, 3]
+                    cnt += 1.0
+        sxx /= cnt
+        syy /= cnt
+        sxy /= cnt
+        dx = x[a1, 0] - x[a0, 0]
+        dy = x[a1, 1] - x[a0, 1]
+        ln = math.sqrt(dx * dx + dy * dy)
+        nx = dy / ln
+        ny = -dx / ln
+        tx = sxx * nx + sxy * ny
+        ty = sxy * nx + syy * ny
+        sn = tx * nx + ty * ny
+        tau = math.sqrt((tx - sn * nx) ** 2 + (ty - sn * ny) ** 2)
+        ma = element_material[ea]
+        mb = element_material[eb]
+        c = min(interface_table[ma, 0], interface_table[mb, 0])
+        tphi = min(interface_table[ma, 1], interface_table[mb, 1])
+        ft = min(interface_table[ma, 2], interface_table[mb, 2])
+        if sn > ft:
+            out[i] = FAIL_TENSION
+        elif tau > c + max(-sn, 0.0) * tphi:
+            out[i] = FAIL_SHEAR
+        else:
+            out[i] = 0
+
+
+def check_interfaces(state: DiscreteState) -> np.ndarray:
+    """Failure mode per interface (n_if,) int8: 0 holds, 1 tension, 2 shear (see module)."""
+    out = np.zeros(state.interface_elements.shape[0], dtype=np.int8)
+    if out.size:
+        _failure_kernel(state.x, state.element_nodes, state.element_material, state.stress,
+                        state.interface_elements, state.interface_nodes,
+                        state.interface_intact, state.interface_splittable,
+                        state.interface_table, out)
+    return out
+
+
+def split_interfaces(state: DiscreteState, failed) -> int:
+    """Mark the interfaces ``failed`` (indices or bool mask) as broken and re-split the tie
+    groups of their vertices into connected components over the intact interfaces.
+
+    Returns the number of interfaces newly broken. Group ids are renumbered compactly in
+    order of first appearance (deterministic); the CSR arrays are rebuilt.
+    """
+    failed = np.asarray(failed)
+    idx = np.flatnonzero(failed) if failed.dtype == bool else failed.astype(np.int64)
+    idx = idx[state.interface_intact[idx]]
+    if idx.size == 0:
+        return 0
+    state.interface_intact[idx] = False
+    groups = np.unique(state.node_group[state.interface_nodes[idx].ravel()])
+    # intact interfaces touching the affected groups: their node pairs (a0-b0, a1-b1)
+    ifn = state.interface_nodes[state.interface_intact]
+    links = np.concatenate([ifn[:, [0, 2]], ifn[:, [1, 3]]])
+    touch = np.isin(state.node_group[links[:, 0]], groups)
+    links = links[touch]
+    ng_old = state.n_groups
+    node_group = state.node_group.copy()
+    parent: dict[int, int] = {}
+
+    def find(a: int) -> int:
+        while parent[a] != a:
+            parent[a] = parent[parent[a]]
+            a = parent[a]
+        return a
+
+    next_id = ng_old
+    for g in groups:
+        members = state.group_nodes[state.group_ptr[g]:state.group_ptr[g + 1]]
+        for m in members:
+            parent[int(m)] = int(m)
+    for a, b in links:
+        ra, rb = find(int(a)), find(int(b))
+        if ra != rb:
+            parent[max(ra, rb)] = min(ra, rb)
+    for g in groups:
+        members = state.group_nodes[state.group_ptr[g]:state.group_ptr[g + 1]]
+        roots = [find(int(m)) for m in members]
+        # the component holding the group's first member keeps the old id
+        ids = {roots[0]: int(g)}
+        for r in roots[1:]:
+            if r not in ids:
+                ids[r] = next_id
+                next_id += 1
+        for m, r in zip(members, roots):
+            node_group[m] = ids[r]
+    state.node_group = node_group
+    state.group_ptr, state.group_nodes = groups_csr(node_group, next_id)
+    # masses of the new groups; the energy accumulators are folded into the ledger
+    state.ledger[2:6] += state.group_energy.sum(axis=0)
+    state.group_energy = np.zeros((next_id, 4))
+    state.refresh_groups()
+    return int(idx.size)
+
+
+def limit_splitting(state: DiscreteState, elements) -> int:
+    """Allow splitting only on interfaces touching the given elements (indices or a bool mask
+    over elements, e.g. the handover's yielded region); returns how many stay splittable."""
+    elements = np.asarray(elements)
+    mask = np.zeros(state.n_elements, dtype=bool)
+    if elements.dtype == bool:
+        if elements.shape != (state.n_elements,):
+            raise ValueError(f"element mask has shape {elements.shape}: expected "
+                             f"({state.n_elements},)")
+        mask = elements.copy()
+    else:
+        if elements.size and (elements.min() < 0 or elements.max() >= state.n_elements):
+            raise ValueError("element indices out of range 0..n_elements-1")
+        mask[elements] = True
+    ie = state.interface_elements
+    state.interface_splittable = mask[ie[:, 0]] | mask[ie[:, 1]]
+    return int(state.interface_splittable.sum())

@@ -1,0 +1,165 @@
+"""Splitting (thesis section 4.5): failure criteria, tie-group re-splitting, a bar pulled
+apart at its tensile strength, a no-tension beam splitting where sigma_N > 0."""
+
+import math
+
+import numpy as np
+import pytest
+
+from hybrid.discrete import DiscreteMaterial, integrate, rectangle, ties
+from hybrid.discrete.run import run
+
+
+def _mat(**kw):
+    base = dict(E=1.0e4, nu=0.0, density=2.0)
+    base.update(kw)
+    return DiscreteMaterial(**base)
+
+
+@pytest.mark.parametrize("element", ["Q4", "T3"])
+def test_failure_criteria_thresholds(element):
+    """Uniform prescribed stress: tension and Mohr-Coulomb shear thresholds to 1 %."""
+    c, phi, ft = 10.0, 30.0, 5.0
+    st = rectangle(3.0, 3.0, 3, 3, element, material=_mat(
+        interface_cohesion=c, interface_phi_deg=phi, interface_tensile_strength=ft))
+    ifn = st.interface_nodes
+    d = st.x[ifn[:, 1]] - st.x[ifn[:, 0]]
+    horizontal = np.abs(d[:, 1]) < 1e-12  # normal (0, +-1): sigma_N = sigma_yy
+    vertical = np.abs(d[:, 0]) < 1e-12  # normal (+-1, 0): sigma_N = sigma_xx
+    # tension: sigma_yy just above / below ft fails / holds the horizontal interfaces only
+    for factor, expect in ((1.01, ties.FAIL_TENSION), (0.99, 0)):
+        st.stress[:] = [0.0, factor * ft, 0.0, 0.0]
+        modes = ties.check_interfaces(st)
+        assert np.all(modes[horizontal] == expect)
+        assert np.all(modes[vertical] == 0)
+    # shear under compression p: fails iff tau > c + p tan(phi)
+    p = 40.0
+    tau_f = c + p * math.tan(math.radians(phi))
+    for factor, expect in ((1.01, ties.FAIL_SHEAR), (0.99, 0)):
+        st.stress[:] = [-p, -p, -p, factor * tau_f]
+        modes = ties.check_interfaces(st)
+        assert np.all(modes[horizontal | vertical] == expect)
+    # interfaces marked not splittable are never checked
+    st.interface_splittable[:] = False
+    assert not ties.check_interfaces(st).any()
+
+
+def test_weaker_material_governs():
+    """An interface between two materials uses the smaller strength of the two."""
+    strong = _mat(interface_tensile_strength=100.0)
+    weak = _mat(interface_tensile_strength=10.0)
+    from hybrid.discrete.builders import rectangle_mesh
+    from hybrid.discrete.state import from_mesh
+
+    pts, cells = rectangle_mesh(2.0, 1.0, 2, 1)
+    st = from_mesh(pts, cells, [0, 1], [strong, weak])
+    st.stress[:] = [20.0, 0.0, 0.0, 0.0]  # sigma_N = 20 kPa on the vertical interface
+    assert ties.check_interfaces(st).tolist() == [ties.FAIL_TENSION]
+
+
+def test_tie_groups_resplit_into_connected_components():
+    """2x2 mesh: one crack to the centre keeps the centre tied (still connected around it);
+    a second crack through the centre splits it into two groups."""
+    st = rectangle(2.0, 2.0, 2, 2, material=_mat())
+    assert st.n_groups == 9
+    ie = st.interface_elements.tolist()
+    i01 = ie.index([0, 1])  # vertical interface, lower half
+    ties.split_interfaces(st, [i01])
+    # only the bottom-middle vertex (2 nodes) splits; the centre stays one group of 4
+    assert st.n_groups == 10
+    centre = np.flatnonzero(np.all(np.isclose(st.x_ref, [1.0, 1.0]), axis=1))
+    assert len(set(st.node_group[centre])) == 1
+    i23 = ie.index([2, 3])  # vertical interface, upper half: the crack goes through
+    ties.split_interfaces(st, [i23])
+    assert st.n_groups == 12
+    groups = {}
+    for n in centre:
+        groups.setdefault(st.node_group[n], []).append(n // 4)  # owning element
+    assert sorted(sorted(v) for v in groups.values()) == [[0, 2], [1, 3]]
+    # CSR consistent with node_group
+    for g in range(st.n_groups):
+        members = st.group_nodes[st.group_ptr[g]:st.group_ptr[g + 1]]
+        assert np.all(st.node_group[members] == g)
+
+
+def test_bar_pulled_apart_splits_at_tensile_strength():
+    """A bar pulled slowly at one end splits when the axial stress reaches the interface
+    tensile strength: the support reaction at the split equals ft * h to 2 %."""
+    ft, h, L = 20.0, 1.0, 10.0
+    st = rectangle(L, h, 10, 1, material=_mat(interface_tensile_strength=ft),
+                   gravity=(0.0, 0.0))
+    left = np.isclose(st.x_ref[:, 0], 0.0)
+    right = np.isclose(st.x_ref[:, 0], L)
+    st.fix(left, x=True, y=False)
+    st.fix(left & np.isclose(st.x_ref[:, 1], 0.0), x=False, y=True)
+    vel = 2.0e-3  # m/s: dynamic stress rho c V = 0.28 kPa, 1.4 % of ft
+    st.fix(right, x=True, y=False, velocity=(vel, 0.0))
+    dt = 0.5 * integrate.stable_time_step(st)
+    alpha = 5.0
+    reaction = None
+    n_groups0 = st.n_groups
+    for _ in range(20000):
+        integrate.step(st, dt, alpha=alpha)
+        modes = ties.check_interfaces(st)
+        if modes.any():
+            reaction = -np.sum(st.internal_force[left, 0])
+            failed = np.flatnonzero(modes)
+            assert np.all(modes[failed] == ties.FAIL_TENSION)
+            ties.split_interfaces(st, failed)
+            break
+    assert reaction is not None
+    # bar 2 %: the quasi-static reaction at the split is the tensile strength times h
+    assert abs(reaction / (ft * h) - 1.0) < 0.02
+    # every broken vertical interface splits its two vertices into two groups each
+    assert st.n_groups == n_groups0 + 2 * failed.size
+    # the pieces separate: the crack opens as the right end keeps moving
+    for _ in range(2000):
+        integrate.step(st, dt, alpha=alpha)
+    ifn = st.interface_nodes[failed[0]]
+    assert st.x[ifn[2], 0] - st.x[ifn[0], 0] > 0.5 * vel * 2000 * dt
+    # and the released bar unloads (stress below 5 % of ft after the damped transient)
+    assert np.max(np.abs(st.stress[..., 0])) < 0.05 * ft
+
+
+def test_no_tension_beam_splits_where_normal_stress_is_tensile():
+    """A simply supported elastic beam under gravity, no-tension interfaces: vertical
+    interfaces in the middle half of the span split below the neutral axis (sigma_N =
+    sigma_xx > 0, beam theory) and hold above it."""
+    L, h = 10.0, 1.0
+    mat = DiscreteMaterial(E=1.0e5, nu=0.2, density=2.0, interface_tensile_strength=0.0,
+                           interface_cohesion=1e9)
+    st = rectangle(L, h, 20, 4, material=mat)
+    bottom = np.isclose(st.x_ref[:, 1], 0.0)
+    st.fix(bottom & np.isclose(st.x_ref[:, 0], 0.0))
+    st.fix(bottom & np.isclose(st.x_ref[:, 0], L), x=False, y=True)
+    res = run(st, until_rest=1e-8, max_steps=40000, damping=12.0, progress=False)
+    assert res.stop_reason == "rest"
+    # sanity of the static state: the bottom layer's mean sigma_xx next to mid-span agrees
+    # with beam theory M y / I at its mean distance 3h/8 from the neutral axis (10 %: a
+    # 4-element-deep Q4 mesh represents the linear bending stress only per element)
+    q = 2.0 * 9.81 * h
+    cref = st.x_ref[st.element_nodes].mean(axis=1)
+    mid = np.flatnonzero(np.isclose(cref[:, 0], L / 2 - 0.25) & np.isclose(cref[:, 1], h / 8))
+    xm = L / 2 - 0.25
+    M = q * xm * (L - xm) / 2.0
+    assert abs(st.stress[mid, :, 0].mean() / (M * (3 * h / 8) / (h**3 / 12)) - 1.0) < 0.1
+    modes = ties.check_interfaces(st)
+    ifn = st.interface_nodes
+    mid_pts = 0.5 * (st.x_ref[ifn[:, 0]] + st.x_ref[ifn[:, 1]])
+    d = st.x_ref[ifn[:, 1]] - st.x_ref[ifn[:, 0]]
+    vertical = np.abs(d[:, 0]) < 1e-9
+    central = np.abs(mid_pts[:, 0] - L / 2) < L / 4
+    below = mid_pts[:, 1] < h / 2
+    assert np.all(modes[vertical & central & below] == ties.FAIL_TENSION)
+    assert np.all(modes[vertical & central & ~below] == 0)
+
+
+def test_splitting_limited_to_a_region():
+    """Only interfaces touching the chosen elements are checked (the handover's region)."""
+    st = rectangle(3.0, 1.0, 3, 1, material=_mat(interface_tensile_strength=1.0))
+    st.stress[:] = [10.0, 0.0, 0.0, 0.0]  # both vertical interfaces over-stressed in tension
+    assert ties.limit_splitting(st, [0]) == 1  # only the interface between elements 0 and 1
+    modes = ties.check_interfaces(st)
+    ie = st.interface_elements.tolist()
+    assert modes[ie.index([0, 1])] == ties.FAIL_TENSION
+    assert modes[ie.index([1, 2])] == 0
