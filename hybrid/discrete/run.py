@@ -86,7 +86,8 @@ def run(state: DiscreteState, *, until_time: float | None = None, max_steps: int
         check_every: int = 100, rest_min_steps: int = 200, output_every: int = 0,
         out_dir: str | Path | None = None, snapshots: bool = True,
         checkpoint_every: int = 0, progress: bool = True,
-        on_check: Callable[[DiscreteState], bool | None] | None = None) -> RunResult:
+        on_check: Callable[[DiscreteState], bool | None] | None = None,
+        bbar: bool = True) -> RunResult:
     """Advance ``state`` in place until a time, a step count or rest (whichever comes first).
 
     until_time [s] (absolute state time), max_steps (steps of this call), until_rest: stop when
@@ -99,8 +100,10 @@ def run(state: DiscreteState, *, until_time: float | None = None, max_steps: int
     run with a ValueError. output_every: XDMF/PNG every K steps into out_dir (with a GIF at
     the end); checkpoint_every: npz checkpoints into out_dir. on_check(state), if given, is
     called every check_every steps: it may change loads (``external_force``, load histories)
-    and returns True to stop the run (stop reason "callback"). Raises RuntimeError if the run
-    turns unstable (non-finite numbers or energy growing without a source).
+    and returns True to stop the run (stop reason "callback"). bbar: Q4 with the
+    mean-dilatation B-bar (default, no volumetric locking) or full 2x2 integration (False, as
+    dolfinx Q1). Raises RuntimeError if the run turns unstable (non-finite numbers or energy
+    growing without a source).
     """
     if until_time is None and max_steps is None and until_rest is None:
         raise ValueError("give at least one of until_time, max_steps, until_rest")
@@ -210,7 +213,7 @@ def run(state: DiscreteState, *, until_time: float | None = None, max_steps: int
                     state.ledger[0] += dfric
                     state.ledger[1] += ddamp
             integrate.step(state, dt, alpha=damping, local_damping=local_damping,
-                           contact_force=cforce)
+                           contact_force=cforce, bbar=bbar)
             k += 1
             if split_every and state.step % split_every == 0:
                 modes = ties.check_interfaces(state)
