@@ -32,6 +32,7 @@ from hybrid.geometry import build_mesh, load_builder
 from hybrid.io import Check, plot_cell_field, write_continuum_xdmf, write_summary
 from hybrid.materials import Material
 from hybrid.model import Displacement, Fixed, Model, Roller
+from hybrid.report import plot_load_settlement
 
 MESHES = Path(__file__).resolve().parent.parent / "meshes"
 
@@ -123,29 +124,11 @@ def main(out: str | Path = "results/bearing_capacity", **overrides) -> dict:
     plot_cell_field(out / "plastic_strain.png", model.mesh, state.cell_plastic_strain(),
                     title="Equivalent plastic strain at the end", label="plastic strain [-]",
                     cmap="magma_r")
-    _plot_curve(out / "load_settlement.png", settle, pressure, reference, state.comm)
+    if state.comm.rank == 0:
+        plot_load_settlement(out / "load_settlement.png", settle, pressure,
+                             {"Prandtl c N_c": reference}, title=f"{p.case_id}: rigid footing")
     write_summary(out / "summary.json", summary, state.comm)
     return summary
-
-
-def _plot_curve(path: Path, settle, pressure, reference, comm) -> None:
-    if comm.rank != 0:
-        return
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(6, 4.5), dpi=120)
-    ax.plot(settle * 1000, pressure, "o-", ms=3, label="hybrid (dolfinx, Mohr-Coulomb)")
-    ax.axhline(reference, color="k", ls="--", label=f"Prandtl c N_c = {reference:.1f} kPa")
-    ax.set_xlabel("footing settlement [mm]")
-    ax.set_ylabel("average footing pressure [kPa]")
-    ax.grid(alpha=0.3)
-    ax.legend()
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
 
 
 if __name__ == "__main__":

@@ -33,6 +33,7 @@ from hybrid.io import Check, continuum_figures, plot_cell_field, write_continuum
 from hybrid.materials import Material
 from hybrid.model import Fixed, Model, Pressure, Roller
 from hybrid.references import flamant_centreline
+from hybrid.report import plot_profile
 
 MESHES = Path(__file__).resolve().parent.parent / "meshes"
 
@@ -105,31 +106,15 @@ def main(out: str | Path = "results/flexible_footing", **overrides) -> dict:
     plot_cell_field(out / "vertical_displacement.png", state.model.mesh,
                     state.cell_displacement()[:, 1], title="Vertical displacement", label="u_y [m]",
                     cmap="viridis")
-    _plot_centreline(out / "centreline_stress.png", z, computed, reference, state.comm)
+    if state.comm.rank == 0:
+        plot_profile(out / "centreline_stress.png", z,
+                     {"Flamant (strip load)": (-reference, "k-"),
+                      "hybrid (dolfinx)": (-computed, "o")},
+                     xlabel="vertical stress -sigma_yy [kPa]",
+                     ylabel="depth below the footing centre z [m]",
+                     title="C3: stress under the centreline")
     write_summary(out / "summary.json", summary, state.comm)
     return summary
-
-
-def _plot_centreline(path: Path, z, computed, reference, comm) -> None:
-    if comm.rank != 0:
-        return
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(5, 6), dpi=120)
-    ax.plot(-reference, z, "k-", label="Flamant (strip load)")
-    ax.plot(-computed, z, "o", ms=4, label="hybrid (dolfinx)")
-    ax.invert_yaxis()
-    ax.set_xlabel("vertical stress -sigma_yy [kPa]")
-    ax.set_ylabel("depth below footing centre z [m]")
-    ax.set_title("C3: stress under the centreline")
-    ax.legend()
-    ax.grid(alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
 
 
 if __name__ == "__main__":

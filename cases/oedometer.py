@@ -29,6 +29,7 @@ from hybrid.io import Check, continuum_figures, write_summary
 from hybrid.materials import Material
 from hybrid.model import Model, Roller
 from hybrid.references import oedometer_settlement, oedometer_stress
+from hybrid.report import plot_profile
 
 MESHES = Path(__file__).resolve().parent.parent / "meshes"
 
@@ -79,33 +80,14 @@ def main(out: str | Path = "results/oedometer", **overrides) -> dict:
                            "sigma_v_reference": sv_ref, "sigma_h_reference": sh_ref},
                "checks": checks}
     continuum_figures(out, state)
-    _plot_profile(out / "stress_profile.png", z, s, sv_ref, sh_ref, state.comm)
+    if state.comm.rank == 0:
+        plot_profile(out / "stress_profile.png", z,
+                     {"gamma z": (-sv_ref, "k-"), "K0 gamma z": (-sh_ref, "k--"),
+                      "hybrid sigma_v": (-s[:, 1], "o"), "hybrid sigma_h": (-s[:, 0], "s")},
+                     xlabel="compressive stress [kPa]",
+                     title="C2: confined column under gravity")
     write_summary(out / "summary.json", summary, state.comm)
     return summary
-
-
-def _plot_profile(path: Path, z, s, sv_ref, sh_ref, comm) -> None:
-    if comm.rank != 0:
-        return
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(5, 5), dpi=100)
-    ax.plot(-sv_ref, z, "k-", label="gamma z")
-    ax.plot(-sh_ref, z, "k--", label="K0 gamma z")
-    ax.plot(-s[:, 1], z, "o", ms=4, label="hybrid sigma_v")
-    ax.plot(-s[:, 0], z, "s", ms=4, label="hybrid sigma_h")
-    ax.invert_yaxis()
-    ax.set_xlabel("compressive stress [kPa]")
-    ax.set_ylabel("depth z [m]")
-    ax.set_title("C2: confined column under gravity")
-    ax.legend()
-    ax.grid(alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
 
 
 if __name__ == "__main__":

@@ -33,6 +33,7 @@ from hybrid.geometry import build_mesh, load_builder
 from hybrid.io import Check, plot_cell_field, write_continuum_xdmf, write_summary
 from hybrid.materials import Material
 from hybrid.model import Displacement, Fixed, Model, Roller
+from hybrid.report import plot_thrust_translation
 
 MESHES = Path(__file__).resolve().parent.parent / "meshes"
 
@@ -107,29 +108,12 @@ def main(out: str | Path = "results/retaining_wall", **overrides) -> dict:
     plot_cell_field(out / f"{p.mode}_plastic_strain.png", model.mesh, state.cell_plastic_strain(),
                     title=f"{p.mode.capitalize()} state: plastic strain",
                     label="plastic strain [-]", cmap="magma_r")
-    _plot(out / f"{p.mode}_thrust.png", translation, thrust, reference, p.mode, state.comm)
+    if state.comm.rank == 0:
+        plot_thrust_translation(out / f"{p.mode}_thrust.png", translation, thrust,
+                                {f"Rankine {p.mode}": reference},
+                                title=f"C8: smooth wall, {p.mode}")
     write_summary(out / "summary.json", summary, state.comm)
     return summary
-
-
-def _plot(path: Path, translation, thrust, reference, mode, comm) -> None:
-    if comm.rank != 0:
-        return
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(6, 4.5), dpi=120)
-    ax.plot(translation * 1000, thrust, "o-", ms=3, label="hybrid (dolfinx, Mohr-Coulomb)")
-    ax.axhline(reference, color="k", ls="--", label=f"Rankine {mode}: {reference:.0f} kN/m")
-    ax.set_xlabel("wall translation [mm]")
-    ax.set_ylabel("horizontal thrust on the wall [kN/m]")
-    ax.grid(alpha=0.3)
-    ax.legend()
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
 
 
 if __name__ == "__main__":

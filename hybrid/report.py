@@ -76,6 +76,34 @@ def plot_curve(path: str | Path, x: Sequence[float], y: Sequence[float], *, xlab
     return path
 
 
+def plot_profile(path: str | Path, depth: Sequence[float],
+                 curves: Mapping[str, tuple[Sequence[float], str]], *, xlabel: str,
+                 ylabel: str = "depth z [m]", title: str = "") -> Path:
+    """PNG of quantities against depth (depth downward): ``curves`` = {label: (values, style)}
+    with a matplotlib style such as "k-" for a closed form or "o" for computed points."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig, ax = plt.subplots(figsize=(5, 5.5), dpi=100)
+    for label, (values, style) in curves.items():
+        ax.plot(np.asarray(values, float), np.asarray(depth, float), style, ms=4, label=label)
+    ax.invert_yaxis()
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    if title:
+        ax.set_title(title)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+    return path
+
+
 def plot_load_settlement(path: str | Path, settlement: Sequence[float],
                          pressure: Sequence[float], references: Mapping[str, float] | None = None,
                          *, title: str = "Footing: load-settlement") -> Path:
