@@ -100,3 +100,26 @@ def test_invalid_inputs(builder):
     solver = PlasticSolver(model, degree=1)
     with pytest.raises(GeometryError, match="unknown cell .*'embankment'"):
         solver.activate(["embankment"])
+
+
+def test_k0_initial_state_is_in_equilibrium(builder):
+    """A K0 state under horizontal ground is in equilibrium with the self-weight: switching
+    it on as the initial stress leaves nothing to solve (displacement < 1e-9 of the elastic
+    gravity settlement) and the stress stays sigma_v = -gamma z, sigma_h = K0 sigma_v."""
+    H, gamma = 6.0, 18.0
+    mesh = build_mesh(builder("block"), width=3.0, height=H, nx=3, ny=6)
+    soil = Material("soil", E=2e4, nu=0.3, unit_weight=gamma, cohesion=20.0, phi=25.0)
+    model = Model(mesh, {"soil": soil}, supports=[Fixed("base"), Roller("left", "x"),
+                                                  Roller("right", "x")])
+    solver = PlasticSolver(model, degree=2)
+    k0 = 1 - math.sin(math.radians(25.0))  # Jaky, as a user would choose it
+    solver.set_initial_stress(solver.geostatic_stress(H, k0))
+    result = solver.apply_gravity(steps=1)
+    assert result.completed
+    state = solver.state()
+    assert np.abs(state.u.x.array).max() < 1e-9 * gamma * H**2 / 2e4
+    pts = np.array([[1.0, 1.0], [2.0, 3.5]])
+    s = state.stress_at(pts)
+    sv = -gamma * (H - pts[:, 1])
+    np.testing.assert_allclose(s[:, 1], sv, rtol=1e-9)
+    np.testing.assert_allclose(s[:, 0], k0 * sv, rtol=1e-9)
