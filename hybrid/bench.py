@@ -115,6 +115,7 @@ def measure(kind: str, n_elements: int, threads: int, repeats: int,
         else:
             warm_steps = 0
         n_active = 0
+        has_ext = bool(np.any(st.external_force))
         t0 = 0.0
         for k in range(warm_steps + steps):
             if k == warm_steps:
@@ -135,7 +136,7 @@ def measure(kind: str, n_elements: int, threads: int, repeats: int,
                         st.contact_table,
                         st.contact_pairs, st.contact_shear, dt, cforce)
                 cf = cforce
-            integrate.step(st, dt, alpha=opt["alpha"], contact_force=cf)
+            integrate.step(st, dt, alpha=opt["alpha"], contact_force=cf, external=has_ext)
             if opt.get("split_every") and st.step % opt["split_every"] == 0:
                 modes = ties.check_interfaces(st)
                 if modes.any():

@@ -114,3 +114,31 @@ def test_element_escaping_contact_grid_refused():
     with pytest.raises(ValueError, match="escaped the contact grid"):
         run(st, until_time=1.0, contact=True, contact_bounds=(-1.0, -0.5, 4.0, 2.0),
             progress=False)
+
+
+_REPRO_SCRIPT = """
+import hashlib, numpy as np
+from hybrid.discrete import DiscreteMaterial, rectangle, integrate
+st = rectangle(3.0, 3.0, 3, 3, material=DiscreteMaterial(E=1e5, nu=0.3, density=2.0,
+               plastic=True, cohesion=5.0, phi_deg=20.0))
+st.fix(np.isclose(st.x_ref[:, 1], 0.0))
+st.x[:, 0] += 0.01 * np.sin(st.x[:, 1])
+for k in range(50):
+    integrate.step(st, 1e-4, alpha=1.0, local_damping=0.1)
+print(hashlib.sha1(st.x.tobytes() + st.stress.tobytes()).hexdigest())
+"""
+
+
+@pytest.mark.slow
+def test_fresh_compile_and_cached_kernels_agree_bit_for_bit(tmp_path):
+    """A checkpoint restarted in another process must continue with the same numbers: the
+    kernels compiled fresh and loaded from numba's cache give identical bits (fastmath
+    'contract' broke this, so it is not used)."""
+    import os
+    import subprocess
+    import sys
+
+    env = dict(os.environ, NUMBA_CACHE_DIR=str(tmp_path / "cache"))
+    out = [subprocess.run([sys.executable, "-c", _REPRO_SCRIPT], env=env, check=True,
+                          capture_output=True, text=True).stdout.strip() for _ in range(2)]
+    assert out[0] == out[1] and len(out[0]) == 40

@@ -7,10 +7,10 @@ One call does, for every element (``prange``, elements own their nodes: no write
    L = dJ Jm^-1 with dJ = d(du)/d(xi), Jm = d(x_mid)/d(xi); d_eps = sym L (engineering gxy);
 2. objective rotation by the Hughes-Winget increment R = (I - W/2)^-1 (I + W/2), W = skew L
    (in 2D a rotation by a with tan(a/2) = w/2; exact for any rigid rotation because L is then
-   2 tan(a/2) times the unit skew matrix), applied in two halves around the constitutive
-   update: sigma_n is rotated by a/2 to the mid-step frame, where d_eps lives, updated, then
-   rotated by a/2 again. (Rotating by a before adding the mid-step increment mixes frames;
-   we measured that it pumps energy into a spinning, vibrating element; the split does not.)
+   2 tan(a/2) times the unit skew matrix): sigma_n is rotated by a, and the increment C:d_eps,
+   which lives on the mid-step frame, by a/2 (to first order). Adding the unrotated mid-step
+   increment to R sigma_n R^T (the textbook form) mixes frames: we measured that it pumps
+   energy into a spinning, vibrating element (x25 in 3 s); this form does not (tested).
 3. constitutive update: linear elastic trial, corrected unless the material is elastic_only by
    the shared closed-form Mohr-Coulomb principal return
    (``hybrid.constitutive.mohr_coulomb.return_principal``; the spectral split around it is done
@@ -37,19 +37,31 @@ import numba  # isort: skip
 
 __all__ = ["element_forces", "internal_forces", "strain_energy"]
 
-# Only fused multiply-add contraction (IEEE semantics otherwise: NaN/inf still propagate, so an
-# inverted element still poisons its forces): ~15 % faster element loop, measured. Results stay
-# bit-identical for any thread count (each element runs the same machine code).
-_FMA = {"contract"}
+# No fastmath, not even {"contract"} (fused multiply-add, ~15 % faster element loop): with
+# numba 0.56 a kernel compiled in this process and the same kernel loaded from the cache gave
+# different last bits (measured), which breaks bit-for-bit restarts across processes.
 
 
 @numba.njit(cache=True, inline="always")
-def _half_rotation(w):
-    """cos and sin of half the Hughes-Winget rotation for the spin increment
-    w = (L21 - L12)/2: the full angle a has tan(a/2) = w/2."""
-    t = 0.5 * w
-    r = 1.0 / math.sqrt(1.0 + t * t)
-    return r, t * r
+def _objective_trial(sxx, syy, szz, sxy, l12, l21, dexx, deyy, dgxy, lam, G):
+    """Elastic trial stress on the end-of-step frame (Hughes-Winget, section 2 of the module).
+
+    sigma_n is rotated by the increment angle a, tan(a/2) = t = (L21 - L12)/4 (Cayley: exact
+    for rigid rotation); the increment C:d_eps, computed on the mid-step frame, is turned by
+    a/2 to the end frame to first order (the neglected O(a^2 d_sigma) is far below the
+    O(a d_sigma) frame error this removes). Returns (txx, tyy, tzz, txy).
+    """
+    t = 0.25 * (l21 - l12)
+    den = 1.0 / (1.0 + t * t)
+    c = (1.0 - t * t) * den
+    s = 2.0 * t * den
+    rxx, ryy, rxy = _rotate(sxx, syy, sxy, c, s)
+    ev = dexx + deyy
+    dxx = lam * ev + 2.0 * G * dexx
+    dyy = lam * ev + 2.0 * G * deyy
+    dxy = G * dgxy
+    return (rxx + (dxx - 2.0 * t * dxy), ryy + (dyy + 2.0 * t * dxy), szz + lam * ev,
+            rxy + (dxy + t * (dxx - dyy)))
 
 
 @numba.njit(cache=True, inline="always")
@@ -114,7 +126,7 @@ def _mc_update(txx, tyy, tzz, txy, K, G, cohesion, sin_phi, cos_phi, sin_psi, te
     return hm + hd * c2, hm - hd * c2, rz, hd * s2t, deq, 1
 
 
-@numba.njit(cache=True, parallel=True, fastmath=_FMA)
+@numba.njit(cache=True, parallel=True)
 def _q4_kernel(x, v, dt, element_nodes, element_material, material_table, elastic_only,
                stress, plastic_strain, yielded, bbar, force):
     """Q4 stress update + internal force (module docstring); writes force (n_nodes, 2).
@@ -214,24 +226,18 @@ def _q4_kernel(x, v, dt, element_nodes, element_material, material_table, elasti
             dexx = l11 + corr
             deyy = l22 + corr
             dgxy = l12 + l21
-            ch, sh = _half_rotation(0.5 * (l21 - l12))
-            sxx, syy, sxy = _rotate(stress[e, gp, 0], stress[e, gp, 1], stress[e, gp, 3], ch, sh)
-            szz = stress[e, gp, 2]
-            ev = dexx + deyy
-            txx = sxx + (lam * ev + 2.0 * G * dexx)
-            tyy = syy + (lam * ev + 2.0 * G * deyy)
-            tzz = szz + lam * ev
-            txy = sxy + G * dgxy
-            if not elastic:
-                txx, tyy, tzz, txy, dp, yl = _mc_update(
-                    txx, tyy, tzz, txy, K, G, material_table[m, 2], material_table[m, 3],
+            sxx, syy, szz, sxy = _objective_trial(
+                stress[e, gp, 0], stress[e, gp, 1], stress[e, gp, 2], stress[e, gp, 3], l12,
+                l21, dexx, deyy, dgxy, lam, G)
+            if not elastic:  # isotropic return: commutes with the rotation
+                sxx, syy, szz, sxy, dp, yl = _mc_update(
+                    sxx, syy, szz, sxy, K, G, material_table[m, 2], material_table[m, 3],
                     material_table[m, 4], material_table[m, 5], material_table[m, 6])
                 plastic_strain[e, gp] += dp
                 yielded[e, gp] = yl
-            sxx, syy, sxy = _rotate(txx, tyy, txy, ch, sh)
             stress[e, gp, 0] = sxx
             stress[e, gp, 1] = syy
-            stress[e, gp, 2] = tzz
+            stress[e, gp, 2] = szz
             stress[e, gp, 3] = sxy
             # force on the new configuration: det J dN/dx = j22 dNxi - j21 dNeta,
             # det J dN/dy = -j12 dNxi + j11 dNeta
@@ -267,7 +273,7 @@ def _q4_kernel(x, v, dt, element_nodes, element_material, material_table, elasti
         force[n3, 1] = 0.25 * (-(spy + sepy) + (sqy - sxqy)) + 0.5 * (x2 - x0) * pm
 
 
-@numba.njit(cache=True, parallel=True, fastmath=_FMA)
+@numba.njit(cache=True, parallel=True)
 def _t3_kernel(x, v, dt, element_nodes, element_material, material_table, elastic_only,
                stress, plastic_strain, yielded, force):
     """T3 (one point) stress update + internal force; writes force (n_nodes, 2)."""
@@ -313,24 +319,18 @@ def _t3_kernel(x, v, dt, element_nodes, element_material, material_table, elasti
         dexx = l11
         deyy = l22
         dgxy = l12 + l21
-        ch, sh = _half_rotation(0.5 * (l21 - l12))
-        sxx, syy, sxy = _rotate(stress[e, 0, 0], stress[e, 0, 1], stress[e, 0, 3], ch, sh)
-        szz = stress[e, 0, 2]
-        ev = dexx + deyy
-        txx = sxx + (lam * ev + 2.0 * G * dexx)
-        tyy = syy + (lam * ev + 2.0 * G * deyy)
-        tzz = szz + lam * ev
-        txy = sxy + G * dgxy
+        sxx, syy, szz, sxy = _objective_trial(
+            stress[e, 0, 0], stress[e, 0, 1], stress[e, 0, 2], stress[e, 0, 3], l12, l21, dexx,
+            deyy, dgxy, lam, G)
         if not elastic_only[m]:
-            txx, tyy, tzz, txy, dp, yl = _mc_update(
-                txx, tyy, tzz, txy, K, G, material_table[m, 2], material_table[m, 3],
+            sxx, syy, szz, sxy, dp, yl = _mc_update(
+                sxx, syy, szz, sxy, K, G, material_table[m, 2], material_table[m, 3],
                 material_table[m, 4], material_table[m, 5], material_table[m, 6])
             plastic_strain[e, 0] += dp
             yielded[e, 0] = yl
-        sxx, syy, sxy = _rotate(txx, tyy, txy, ch, sh)
         stress[e, 0, 0] = sxx
         stress[e, 0, 1] = syy
-        stress[e, 0, 2] = tzz
+        stress[e, 0, 2] = szz
         stress[e, 0, 3] = sxy
         det = j11 * j22 - j12 * j21
         h = 0.5 if det > 0.0 else math.nan

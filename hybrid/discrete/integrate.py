@@ -29,8 +29,8 @@ __all__ = ["stable_time_step", "step", "prime", "kinetic_energy", "check_dt"]
 
 @numba.njit(cache=True, parallel=True)
 def _group_update(group_ptr, group_nodes, group_mass, internal_force, contact_force,
-                  use_contact, external_force, gravity, fixed, prescribed_velocity, alpha,
-                  local_damping, dt, v, x, group_energy):
+                  use_contact, external_force, use_external, gravity, fixed,
+                  prescribed_velocity, alpha, local_damping, dt, v, x, group_energy):
     """Tie-group reduction + damped central-difference update; writes v, x, group_energy.
 
     group_energy[g] += [work of loads and gravity, work of the supports (reactions of fixed /
@@ -56,8 +56,9 @@ def _group_update(group_ptr, group_nodes, group_mass, internal_force, contact_fo
         pvy = 0.0
         for k in range(s, t):
             i = group_nodes[k]
-            ex += external_force[i, 0]
-            ey += external_force[i, 1]
+            if use_external:
+                ex += external_force[i, 0]
+                ey += external_force[i, 1]
             fx -= internal_force[i, 0]
             fy -= internal_force[i, 1]
             if use_contact:
@@ -175,12 +176,14 @@ def prime(state: DiscreteState) -> None:
 
 
 def step(state: DiscreteState, dt: float, *, alpha: float = 0.0, local_damping: float = 0.0,
-         contact_force: np.ndarray | None = None, bbar: bool = True) -> None:
+         contact_force: np.ndarray | None = None, bbar: bool = True,
+         external: bool = True) -> None:
     """Advance the state by one explicit step of size dt [s] (hot path: only scalar checks;
     ``run`` checks dt against the stable step once).
 
     ``contact_force`` (n_nodes, 2), if given, holds the contact forces at the current
-    configuration (from ``hybrid.discrete.contact.contact_forces``).
+    configuration (from ``hybrid.discrete.contact.contact_forces``). ``external=False`` skips
+    reading ``state.external_force`` (pass it only when that array is all zero).
     """
     if not (dt > 0.0 and math.isfinite(dt)):
         raise ValueError(f"dt = {dt!r}: must be a finite positive time step [s]")
@@ -192,7 +195,7 @@ def step(state: DiscreteState, dt: float, *, alpha: float = 0.0, local_damping: 
     use_c = contact_force is not None
     cf = contact_force if use_c else _EMPTY
     _group_update(state.group_ptr, state.group_nodes, state.group_mass, state.internal_force,
-                  cf, use_c, state.external_force, state.gravity, state.fixed,
+                  cf, use_c, state.external_force, bool(external), state.gravity, state.fixed,
                   state.prescribed_velocity, float(alpha), float(local_damping), float(dt),
                   state.v, state.x, state.group_energy)
     element_forces(state.x, state.v, float(dt), state.element_nodes, state.element_material,

@@ -178,6 +178,7 @@ def run(state: DiscreteState, *, until_time: float | None = None, max_steps: int
     cforce = np.zeros_like(state.x) if contact else None
     cmass = cmod.rigid_contact_mass(state.mass, state.fixed, state.element_nodes) if contact \
         else None
+    has_ext = bool(np.any(state.external_force))
     stop = "steps"
     k = 0
     t0 = _time.perf_counter()
@@ -213,7 +214,7 @@ def run(state: DiscreteState, *, until_time: float | None = None, max_steps: int
                     state.ledger[0] += dfric
                     state.ledger[1] += ddamp
             integrate.step(state, dt, alpha=damping, local_damping=local_damping,
-                           contact_force=cforce, bbar=bbar)
+                           contact_force=cforce, bbar=bbar, external=has_ext)
             k += 1
             if split_every and state.step % split_every == 0:
                 modes = ties.check_interfaces(state)
