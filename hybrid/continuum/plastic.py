@@ -125,6 +125,9 @@ class PlasticSolver:
         materials = [model.materials[k] for k in model.material_names]
         self.materials = materials
         self.table = material_table(materials)
+        # the elastic-stiffness fallback is for non-associated flow; with psi = phi full
+        # Newton with step cutting is cheaper (measured: one fallback step cost 300 iterations)
+        self.non_associated = any(m.is_plastic and m.psi < m.phi for m in materials)
         self.point_material = np.repeat(model.material_ids(), nqp).astype(np.int64)
         self.active = np.ones(n, dtype=bool)
         self.load_factor = 0.0
@@ -271,7 +274,7 @@ class PlasticSolver:
         """Apply one increment of load factor and/or gravity; None if Newton failed."""
         start = time.perf_counter()
         ok, residuals = self._newton(d_lambda, d_gravity)
-        if not ok and self.options.elastic_iterations > 0:
+        if not ok and self.options.elastic_iterations > 0 and self.non_associated:
             ok, residuals = self._newton(d_lambda, d_gravity, elastic=True)
         self.wall_time += time.perf_counter() - start
         if not ok:
