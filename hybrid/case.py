@@ -120,10 +120,11 @@ def execute(main: Callable[..., dict], parameters: type, args: argparse.Namespac
         out = summary.get("out", args.out) if isinstance(summary, dict) else args.out
         checks = summary.get("checks", {}) if isinstance(summary, dict) else {}
         for key, check in checks.items():
-            ref = "" if check.reference is None else f" (reference {check.reference:.6g}"
-            ref += "" if check.reference is None else (
-                f", error {100 * check.error:.3g} %" + (
-                    "" if check.passed is None else (", pass)" if check.passed else ", FAIL)")))
-            print(f"{key}: {check.computed:.6g} {check.unit}{ref}")
+            line = f"{key}: {check.computed:.6g} {check.unit}".rstrip()
+            if check.reference is not None:
+                verdict = {None: "reported", True: "pass", False: "FAIL"}[check.passed]
+                line += (f" (reference {check.reference:.6g}, error {100 * check.error:.3g} %, "
+                         f"{verdict})")
+            print(line)
         print(f"results written to {out}")
     return 0
