@@ -4,10 +4,18 @@ Orchestration only (no physics here): each step calls the kernels of ``integrate
 update, element stress update and internal forces), ``contact`` (when present) and, every
 ``split_every`` steps, ``ties``. Energy ledger (kJ per m thickness):
 
-    E_kin + E_strain + D_damping + D_friction + D_contact_damping + residual
-        = E_kin(0) + E_strain(0) + W_loads + W_supports,
+    E_kin + E_strain + E_contact + D_damping + D_friction + D_contact_damping + residual
+        = E_kin(0) + E_strain(0) + E_contact(0) + W_loads + W_supports,
 
-where the residual holds plastic dissipation, contact elastic energy and time-integration error.
+where E_contact is the elastic energy stored in the contacts (``contact.contact_energy``:
+k_n A^2 / (2 L_c) + |F_t|^2 / (2 k_t L_c) per pair), D_contact_damping minus the work of the
+contact damping forces as applied (after the no-adhesion clamp) on the mid-step velocity
+(``contact.mid_step_work``: the kinetic energy of the central-difference update changes by
+exactly F(t) . v_mid dt), D_friction minus the work of the tangential contact forces on the
+mid-step velocity less the energy still stored in the tangential springs (in steady sliding
+it is mu N x slip), and the residual holds plastic dissipation, the approximation of the
+normal contact energy and time-integration error. state.ledger[0] and [1] accumulate minus
+the work of the tangential and of the damping contact forces.
 """
 
 from __future__ import annotations
@@ -55,15 +63,24 @@ class RunResult:
 
 
 def energy_ledger(state: DiscreteState) -> dict[str, float]:
-    """Current energy terms [kJ/m]: kinetic, strain, and the accumulated works/dissipations."""
+    """Current energy terms [kJ/m]: kinetic, strain, contact elastic (stored in the current
+    contact pairs, see ``contact.contact_energy``) and the accumulated works/dissipations."""
     ge = state.group_energy.sum(axis=0) + state.ledger[2:6]
+    u_n = u_t = 0.0
+    if state.contact_pairs.shape[0] and has_contact_module():
+        from hybrid.discrete import contact as cmod
+
+        u_n, u_t = cmod.contact_energy(state.x, state.element_nodes, state.element_material,
+                                       state.contact_table, state.contact_pairs,
+                                       state.contact_shear)
     return {
         "kinetic": integrate.kinetic_energy(state),
         "strain": strain_energy(state),
+        "contact_elastic": u_n + u_t,
         "work_loads": float(ge[0]),
         "work_supports": float(ge[1]),
         "damping": float(ge[2] + ge[3]),
-        "friction": float(state.ledger[0]),
+        "friction": float(state.ledger[0]) - u_t,
         "contact_damping": float(state.ledger[1]),
     }
 
@@ -87,7 +104,7 @@ def run(state: DiscreteState, *, until_time: float | None = None, max_steps: int
         out_dir: str | Path | None = None, snapshots: bool = True,
         checkpoint_every: int = 0, progress: bool = True,
         on_check: Callable[[DiscreteState], bool | None] | None = None,
-        bbar: bool = True) -> RunResult:
+        bbar: bool = True, split_plastic_strain: float | None = None) -> RunResult:
     """Advance ``state`` in place until a time, a step count or rest (whichever comes first).
 
     until_time [s] (absolute state time), max_steps (steps of this call), until_rest: stop when
@@ -102,8 +119,9 @@ def run(state: DiscreteState, *, until_time: float | None = None, max_steps: int
     called every check_every steps: it may change loads (``external_force``, load histories)
     and returns True to stop the run (stop reason "callback"). bbar: Q4 with the
     mean-dilatation B-bar (default, no volumetric locking) or full 2x2 integration (False, as
-    dolfinx Q1). Raises RuntimeError if the run turns unstable (non-finite numbers or energy
-    growing without a source).
+    dolfinx Q1). split_plastic_strain: interfaces also fail where the adjacent Gauss points'
+    mean plastic strain exceeds it (see ``ties``). Raises RuntimeError if the run turns
+    unstable (non-finite numbers or energy growing without a source).
     """
     if until_time is None and max_steps is None and until_rest is None:
         raise ValueError("give at least one of until_time, max_steps, until_rest")
@@ -164,7 +182,7 @@ def run(state: DiscreteState, *, until_time: float | None = None, max_steps: int
         bar = tqdm(total=n_total, unit="step", desc="discrete", mininterval=0.5)
 
     led0 = energy_ledger(state)
-    e_start = led0["kinetic"] + led0["strain"]
+    e_start = led0["kinetic"] + led0["strain"] + led0["contact_elastic"]
     src0 = led0["work_loads"] + led0["work_supports"]
     mass_tot = float(np.sum(state.mass))
     cmax = float(np.max(np.sqrt((state.material_table[:, 0]
@@ -176,6 +194,9 @@ def run(state: DiscreteState, *, until_time: float | None = None, max_steps: int
     peak_ke = led0["kinetic"]
     n_split = 0
     cforce = np.zeros_like(state.x) if contact else None
+    # ledger: damping and tangential parts of the contact forces, start-of-step velocity
+    split = np.zeros((2, *state.x.shape)) if contact else None
+    v_start = np.zeros_like(state.v) if contact else None
     cmass = cmod.rigid_contact_mass(state.mass, state.fixed, state.element_nodes) if contact \
         else None
     has_ext = bool(np.any(state.external_force))
@@ -207,23 +228,30 @@ def run(state: DiscreteState, *, until_time: float | None = None, max_steps: int
                         state.contact_pairs, state.contact_shear, pairs)
                     state.contact_pairs = pairs
                 cforce[:] = 0.0
-                if state.contact_pairs.shape[0]:
-                    _, dfric, ddamp = cmod.contact_forces(
+                n_pairs = state.contact_pairs.shape[0]
+                if n_pairs:
+                    split[:] = 0.0
+                    v_start[:] = state.v
+                    cmod.contact_forces(
                         state.x, state.v, cmass, state.element_nodes, state.element_material,
-                        state.contact_table, state.contact_pairs, state.contact_shear, dt, cforce)
-                    state.ledger[0] += dfric
-                    state.ledger[1] += ddamp
+                        state.contact_table, state.contact_pairs, state.contact_shear, dt, cforce,
+                        split)
             integrate.step(state, dt, alpha=damping, local_damping=local_damping,
                            contact_force=cforce, bbar=bbar, external=has_ext)
+            if contact and n_pairs:
+                # minus the work of the tangential / damping forces on the mid-step velocity
+                state.ledger[0] -= cmod.mid_step_work(split[1], v_start, state.v, dt)
+                state.ledger[1] -= cmod.mid_step_work(split[0], v_start, state.v, dt)
             k += 1
             if split_every and state.step % split_every == 0:
-                modes = ties.check_interfaces(state)
+                modes = ties.check_interfaces(
+                    state, math.inf if split_plastic_strain is None else split_plastic_strain)
                 if modes.any():
                     n_split += ties.split_interfaces(state, modes > 0)
             if k % check_every == 0 or (n_total is not None and k == n_total):
                 led = energy_ledger(state)
                 _monitor(state, led, e_start, src0, e_prev, tol_e, dt)
-                e_now = led["kinetic"] + led["strain"]
+                e_now = led["kinetic"] + led["strain"] + led["contact_elastic"]
                 e_prev = e_now
                 peak_ke = max(peak_ke, led["kinetic"])
                 _record(hist, state, led, e_start)
@@ -272,14 +300,15 @@ def _record(hist, state, led, e_start) -> None:
     for key, val in led.items():
         hist[key].append(val)
     hist["residual"].append(e_start + led["work_loads"] + led["work_supports"]
-                            - led["kinetic"] - led["strain"] - led["damping"]
+                            - led["kinetic"] - led["strain"] - led["contact_elastic"]
+                            - led["damping"]
                             - led["friction"] - led["contact_damping"])
 
 
 def _monitor(state, led, e_start, src0, e_prev, tol_e, dt) -> None:
     """Stop an unstable run: non-finite numbers, or mechanical energy far above its sources
     and still growing fast."""
-    e_now = led["kinetic"] + led["strain"]
+    e_now = led["kinetic"] + led["strain"] + led["contact_elastic"]
     if not (np.isfinite(e_now) and np.isfinite(state.x).all() and np.isfinite(state.v).all()):
         raise RuntimeError(
             f"discrete run unstable at step {state.step} (t = {state.time:.6g} s): non-finite "

@@ -11,7 +11,12 @@ tau = |t - sigma_N n| the interface fails
   strictly greater, so that an unloaded cohesionless interface, tau = 0 = c, stays intact),
 
 with the interface properties of the weaker of the two materials (the smaller of each of
-c, tan phi and the tensile strength). A failed interface unties: the tie groups of the edge's
+c, tan phi and the tensile strength). Optionally (``plastic_strain_limit``, an addition to the
+thesis) an interface also fails when the mean accumulated plastic strain of those Gauss points
+exceeds the limit: inside a Mohr-Coulomb element the stress is capped on the yield surface, so
+the traction on a mesh edge not aligned with the critical plane never reaches the bond
+strength, and a flowing region would otherwise distort its elements until they invert.
+A failed interface unties: the tie groups of the edge's
 two vertices are rebuilt as the connected components of the graph "node - intact interface -
 node" among the group's members.
 """
@@ -28,10 +33,11 @@ from hybrid.discrete.state import DiscreteState, groups_csr
 import numba  # isort: skip
 
 __all__ = ["check_interfaces", "split_interfaces", "limit_splitting", "FAIL_TENSION",
-           "FAIL_SHEAR"]
+           "FAIL_SHEAR", "FAIL_PLASTIC"]
 
 FAIL_TENSION = 1
 FAIL_SHEAR = 2
+FAIL_PLASTIC = 3
 
 
 @numba.njit(cache=True, inline="always")
@@ -45,8 +51,8 @@ def _local_index(element_nodes, e, node):
 @numba.njit(cache=True, parallel=True)
 def _failure_kernel(x, element_nodes, element_material, stress, interface_elements,
                     interface_nodes, interface_intact, interface_splittable, interface_table,
-                    out):
-    """out[i] = 0 (holds), 1 (tension failure) or 2 (shear failure) per interface."""
+                    plastic_strain, plastic_limit, out):
+    """out[i] = 0 (holds), 1 (tension), 2 (shear) or 3 (plastic strain) per interface."""
     n_if = interface_elements.shape[0]
     ngp = stress.shape[1]
     for i in numba.prange(n_if):
@@ -60,6 +66,7 @@ def _failure_kernel(x, element_nodes, element_material, stress, interface_elemen
         sxx = 0.0
         syy = 0.0
         sxy = 0.0
+        eps_p = 0.0
         cnt = 0.0
         for side in range(2):
             e = ea if side == 0 else eb
@@ -69,12 +76,14 @@ def _failure_kernel(x, element_nodes, element_material, stress, interface_elemen
                 sxx += stress[e, 0, 0]
                 syy += stress[e, 0, 1]
                 sxy += stress[e, 0, 3]
+                eps_p += plastic_strain[e, 0]
                 cnt += 1.0
             else:
                 for gp in (k, (k + 1) % 4):
                     sxx += stress[e, gp, 0]
                     syy += stress[e, gp, 1]
                     sxy += stress[e, gp, 3]
+                    eps_p += plastic_strain[e, gp]
                     cnt += 1.0
         sxx /= cnt
         syy /= cnt
@@ -97,18 +106,23 @@ def _failure_kernel(x, element_nodes, element_material, stress, interface_elemen
             out[i] = FAIL_TENSION
         elif tau > c + max(-sn, 0.0) * tphi:
             out[i] = FAIL_SHEAR
+        elif eps_p / cnt > plastic_limit:
+            out[i] = FAIL_PLASTIC
         else:
             out[i] = 0
 
 
-def check_interfaces(state: DiscreteState) -> np.ndarray:
-    """Failure mode per interface (n_if,) int8: 0 holds, 1 tension, 2 shear (see module)."""
+def check_interfaces(state: DiscreteState, plastic_strain_limit: float = math.inf
+                     ) -> np.ndarray:
+    """Failure mode per interface (n_if,) int8: 0 holds, 1 tension, 2 shear, 3 plastic strain
+    above ``plastic_strain_limit`` (see module)."""
     out = np.zeros(state.interface_elements.shape[0], dtype=np.int8)
     if out.size:
         _failure_kernel(state.x, state.element_nodes, state.element_material, state.stress,
                         state.interface_elements, state.interface_nodes,
                         state.interface_intact, state.interface_splittable,
-                        state.interface_table, out)
+                        state.interface_table, state.plastic_strain,
+                        float(plastic_strain_limit), out)
     return out
 
 
