@@ -104,6 +104,34 @@ def plot_profile(path: str | Path, depth: Sequence[float],
     return path
 
 
+def plot_energy(path: str | Path, history: Mapping[str, Any]) -> Path:
+    """PNG of a discrete run's energy ledger (``RunResult.history``: every term the engine
+    records) and the total dissipation against time [kJ/m]."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from hybrid.discrete.energy import DISSIPATION, LABELS
+
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig, ax = plt.subplots(figsize=(6.4, 4.4), dpi=100)
+    for key, y in history.items():
+        if key not in ("time", "step") and np.any(np.asarray(y) != 0.0):
+            ax.plot(history["time"], y, lw=1.2, label=LABELS.get(key, key))
+    ax.plot(history["time"], sum(history[k] for k in DISSIPATION if k in history), "k--",
+            lw=1.5, label="total dissipation")
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel("energy [kJ/m]")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7, loc="best")
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+    return path
+
+
 def plot_load_settlement(path: str | Path, settlement: Sequence[float],
                          pressure: Sequence[float], references: Mapping[str, float] | None = None,
                          *, title: str = "Footing: load-settlement") -> Path:

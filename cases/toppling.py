@@ -1,0 +1,207 @@
+"""D10: a 100-element vertical face topples with no-tension splitting (thesis 4.9.3).
+
+Objective
+    Splitting and contact together: a tied face that cannot carry tension breaks along its
+    element interfaces where its stress turns tensile, topples and comes to rest as a pile.
+Problem
+    A 1.6 m wide, 10 m high face of 4 x 25 Q4 elements on a rigid ground strip (30 x 1 Q4,
+    fixed), leaning 0.8 m over its base (x shifted by 0.08 y). E = 100 000 kPa, nu = 0.25,
+    rho = 2 t/m3; interfaces: no tension, no cohesion, phi = 35 deg; contact friction 35 deg,
+    contact damping ratio 0.3; gravity 9.81 m/s2.
+Set-up
+    Gravity switched on at t = 0; mass damping alpha = 0.5 1/s (light: a dynamic run). Every
+    10 steps each intact interface is checked (thesis section 4.5: tension if sigma_N > 0,
+    shear if tau > sigma_N' tan phi) and failed ones untie; every failure is recorded with its
+    mode and the principal stresses at the interface (the Gauss points next to the edge, as
+    the failure check). Until rest (E_kin <= 1e-4 of its peak) or t_end.
+Verification
+    * Splitting only where tension exists: every tension failure has a tensile major principal
+      stress s1 > 0 (tension positive; the thesis's "minor principal stress tensile" in its
+      compression-positive convention). Exact (a consequence of s1 >= sigma_N > 0; checks the
+      bookkeeping of modes and interfaces).
+    * It completes, splits and settles: at rest before t_end; number of failed interfaces,
+      of bodies, and the final height of the face are reported.
+    * Energy bounded: E_kin + E_strain (+ the elastic contact energy) <= E(0) + work of
+      gravity (excess bar 1 % of the supply).
+References
+    G. S. Bala (2008), thesis, sections 4.5 and 4.9.3.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+import numpy as np
+
+from hybrid.discrete import DiscreteMaterial, from_mesh, ties
+from hybrid.discrete.builders import rectangle_mesh
+from hybrid.discrete.energy import energy_excess, energy_peak_ratio
+from hybrid.discrete.run import run
+from hybrid.io import Check, write_summary
+from hybrid.report import plot_energy
+
+
+@dataclass
+class Parameters:
+    E: float = 1.0e5  # Young's modulus [kPa]
+    nu: float = 0.25  # Poisson's ratio [-]
+    density: float = 2.0  # [t/m3]
+    g: float = 9.81  # gravity [m/s2]
+    width: float = 1.6  # face width at its base [m]
+    height: float = 10.0  # face height [m]
+    nx: int = 4  # elements across the face
+    ny: int = 25  # elements up the face
+    lean: float = 0.08  # overhang: x shifted by lean x y [-]
+    interface_phi: float = 35.0  # interface friction angle (no tension, no cohesion) [deg]
+    contact_phi: float = 35.0  # contact friction angle [deg]
+    contact_damping: float = 0.3  # contact normal damping ratio [-]
+    alpha: float = 0.5  # mass damping [1/s]
+    split_every: int = 10  # steps between interface failure checks
+    rest: float = 1e-4  # stop when E_kin <= rest x max(peak E_kin, E_strain) [-]
+    t_end: float = 15.0  # time limit [s]
+    output_every: int = 1000  # steps between XDMF frames and PNG snapshots
+    progress: bool = True  # show a progress bar
+
+
+def _edge_principal(st, idx: np.ndarray) -> np.ndarray:
+    """Major principal in-plane stress s1 [kPa] of the interfaces ``idx``: the stress averaged
+    over the Gauss points next to the edge in both elements (as ``ties.check_interfaces``)."""
+    en = st.element_nodes
+    s = np.zeros((idx.size, 4))
+    cnt = 0
+    for side, node_col in ((0, 0), (1, 3)):
+        e = st.interface_elements[idx, side]
+        k = np.argmax(en[e] == st.interface_nodes[idx, node_col][:, None], axis=1)
+        for gp in (k, (k + 1) % en.shape[1]):
+            s += st.stress[e, gp]
+            cnt += 1
+    s /= cnt
+    return 0.5 * (s[:, 0] + s[:, 1]) + np.hypot(0.5 * (s[:, 0] - s[:, 1]), s[:, 3])
+
+
+def _n_bodies(st) -> int:
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+
+    ie = st.interface_elements[st.interface_intact]
+    ne = st.n_elements
+    g = coo_matrix((np.ones(len(ie)), (ie[:, 0], ie[:, 1])), shape=(ne, ne))
+    return int(connected_components(g, directed=False)[0])
+
+
+def _plot_failures(path: Path, st, modes: np.ndarray, s1: np.ndarray, n_face: int) -> Path:
+    """The face in its reference shape with every failed interface drawn by mode and sign."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.collections import LineCollection, PolyCollection
+
+    fig, ax = plt.subplots(figsize=(4.0, 7.0), dpi=100)
+    ax.add_collection(PolyCollection(st.x_ref[st.element_nodes[:n_face]], facecolors="0.9",
+                                     edgecolors="0.6", linewidths=0.3))
+    failed = np.flatnonzero(modes > 0)
+    seg = st.x_ref[st.interface_nodes[failed][:, :2]]
+    for mode, sign, colour, label in ((1, True, "C3", "tension, s1 > 0"),
+                                      (2, True, "C1", "shear, s1 > 0"),
+                                      (2, False, "C0", "shear, s1 <= 0")):
+        pick = (modes[failed] == mode) & ((s1[failed] > 0.0) == sign)
+        if pick.any():
+            ax.add_collection(LineCollection(seg[pick], colors=colour, linewidths=2.0,
+                                             label=f"{label} ({int(pick.sum())})"))
+    ax.autoscale()
+    ax.set_aspect("equal")
+    ax.set_title("failed interfaces (reference shape)")
+    ax.legend(fontsize=7, loc="upper left")
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+    return path
+
+
+def main(out: str | Path = "results/toppling", **overrides) -> dict:
+    """A leaning face with no-tension interfaces splits, topples and settles (D10)."""
+    p = Parameters(**overrides)
+    out = Path(out)
+    mat = DiscreteMaterial(E=p.E, nu=p.nu, density=p.density, interface_tensile_strength=0.0,
+                           interface_cohesion=0.0, interface_phi_deg=p.interface_phi,
+                           contact_damping=p.contact_damping, contact_phi_deg=p.contact_phi,
+                           phi_deg=p.interface_phi)
+    ground = DiscreteMaterial(E=p.E, nu=p.nu, density=p.density,
+                              contact_damping=p.contact_damping, contact_phi_deg=p.contact_phi)
+    x0 = 0.5 * p.height  # face's lower-left corner [m]
+    p1, c1 = rectangle_mesh(p.width, p.height, p.nx, p.ny, origin=(x0, 0.0))
+    p1[:, 0] += p.lean * p1[:, 1]
+    # ground strip 3 H long, from H before the face (elements 0.1 H); the face leans to +x
+    p2, c2 = rectangle_mesh(3.0 * p.height, 1.0, 30, 1, origin=(x0 - p.height, -1.0))
+    n_face = len(c1)
+    st = from_mesh(np.concatenate([p1, p2]), np.concatenate([c1, c2 + len(p1)]),
+                   np.r_[np.zeros(n_face, int), np.ones(len(c2), int)], [mat, ground],
+                   gravity=(0.0, -p.g))
+    st.fix(st.element_nodes[n_face:].ravel())
+    face_nodes = np.unique(st.element_nodes[:n_face])
+
+    # every failure recorded: mode and s1 at the moment of the check
+    fail_mode = np.zeros(st.interface_elements.shape[0], dtype=np.int8)
+    fail_s1 = np.zeros(st.interface_elements.shape[0])
+    fail_time = np.full(st.interface_elements.shape[0], np.nan)
+
+    def split(s) -> None:
+        modes = ties.check_interfaces(s)
+        idx = np.flatnonzero(modes)
+        if idx.size:
+            fail_mode[idx] = modes[idx]
+            fail_s1[idx] = _edge_principal(s, idx)
+            fail_time[idx] = s.time
+            ties.split_interfaces(s, idx)
+
+    # splitting done here (after each block of split_every steps, where the contact list is
+    # refreshed on the next step as run() does with its own split_every)
+    res = run(st, until_rest=p.rest, until_time=p.t_end, damping=p.alpha, contact=True,
+              contact_refresh=p.split_every, check_every=p.split_every, progress=p.progress,
+              output_every=p.output_every, out_dir=out, on_check=split)
+    h = res.history
+
+    tension = fail_mode == ties.FAIL_TENSION
+    shear = fail_mode == ties.FAIL_SHEAR
+    n_failed = int((~st.interface_intact).sum())
+    top0 = float(st.x_ref[face_nodes, 1].max())
+    top1 = float(st.x[face_nodes, 1].max())
+    checks = {
+        "tension_failures_with_tensile_s1": Check(
+            float((fail_s1[tension] > 0.0).mean()) if tension.any() else 0.0, 1.0, 0.0, "-",
+            "fraction of tension failures where s1 > 0 (section 4.5)"),
+        "energy_excess_over_sources": Check(
+            energy_excess(h), 0.0, 0.01, "-",
+            "E_kin + E_strain + E_contact <= E(0) + work of gravity"),
+        "rest_kinetic_ratio": Check(
+            float(h["kinetic"][-1] / max(h["kinetic"].max(), h["strain"][-1])), 0.0, p.rest,
+            "-", "at rest: E_kin / max(peak E_kin, E_strain)"),
+        "failed_interfaces": Check(float(n_failed), None, None, "-", "report"),
+        "face_top_height": Check(top1, None, None, "m", f"report (initially {top0:.3g} m)"),
+    }
+    summary = {"case": "toppling (D10)", "out": str(out), "parameters": asdict(p),
+               "dt": res.dt, "steps": res.steps, "time": res.time,
+               "stop_reason": res.stop_reason, "wall_time": res.wall_time,
+               "energy_peak_over_supply": energy_peak_ratio(h),
+               "n_interfaces": int(st.interface_elements.shape[0]),
+               "n_failed": n_failed, "n_failed_tension": int(tension.sum()),
+               "n_failed_shear": int(shear.sum()),
+               "n_failed_shear_s1_tensile": int((fail_s1[shear] > 0.0).sum()),
+               "n_failed_shear_s1_compressive": int((fail_s1[shear] <= 0.0).sum()),
+               "first_failure_time": float(np.nanmin(fail_time)) if n_failed else None,
+               "n_face_pieces": _n_bodies(st) - 1, "face_top_height_initial": top0,
+               "face_top_height_final": top1,
+               "face_lowest_y": float(st.x[face_nodes, 1].min()),  # >= ~0: all on the ground
+               "checks": checks}
+    plot_energy(out / "energy.png", h)
+    _plot_failures(out / "failures.png", st, fail_mode, fail_s1, n_face)
+    write_summary(out / "summary.json", summary)
+    return summary
+
+
+if __name__ == "__main__":
+    from hybrid.case import run_case
+
+    raise SystemExit(run_case(main, Parameters))

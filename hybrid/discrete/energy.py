@@ -1,0 +1,39 @@
+"""Figures of merit of a run's energy ledger (``RunResult.history``), in kJ/m.
+
+supply(t) = E(0) + work of gravity and loads + work of the supports, with
+E = kinetic + strain + contact elastic energy. A run whose mechanical energy never exceeds its
+supply has bounded energy (dissipation takes the difference).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["mechanical_energy", "energy_excess", "energy_peak_ratio", "LABELS", "DISSIPATION"]
+
+#: plot labels of the ledger terms
+LABELS = {"kinetic": "kinetic", "strain": "strain", "contact_elastic": "contact (elastic)",
+          "work_loads": "work of gravity and loads", "work_supports": "work of supports",
+          "damping": "damping", "friction": "friction", "contact_damping": "contact damping",
+          "contact_normal_defect": "contact normal defect", "residual": "balance residual"}
+#: the dissipation terms
+DISSIPATION = ("damping", "friction", "contact_damping")
+
+
+def mechanical_energy(h: dict) -> tuple[np.ndarray, np.ndarray]:
+    """(E, supply) over the run's records."""
+    e = h["kinetic"] + h["strain"] + h.get("contact_elastic", 0.0)
+    return e, e[0] + h["work_loads"] + h["work_supports"]
+
+
+def energy_excess(h: dict) -> float:
+    """max over the run of (E - supply) / max |supply| (0 when the energy stays bounded)."""
+    e, supply = mechanical_energy(h)
+    return max(float(np.max(e - supply)) / float(np.max(np.abs(supply))), 0.0)
+
+
+def energy_peak_ratio(h: dict) -> float:
+    """max over the run of E / supply: how close the energy came to its sources (< 1)."""
+    e, supply = mechanical_energy(h)
+    ok = np.abs(supply) > 1e-12 * float(np.max(np.abs(supply)))
+    return float(np.max(e[ok] / supply[ok])) if ok.any() else 0.0
