@@ -435,3 +435,44 @@ def test_bad_input_clear_errors():
         run_pair(bad, np.zeros_like(xx), mass, en2, mat, table, pairs, np.zeros((1, 2)))
     with pytest.raises(ValueError, match="dt"):
         run_pair(xx, np.zeros_like(xx), mass, en2, mat, table, pairs, np.zeros((1, 2)), -1.0)
+
+
+def test_contact_energy_split_forces_and_mid_step_work():
+    # B = [0,1]x[-0.01,0.99] on a rigid ground: flat penetration d = 0.01 over L_c = 1, so
+    # the stored normal energy is k_n L_c d^2 / 2 = k_n A^2 / (2 L_c) = 5 kJ/m, and a
+    # tangential history F_t = 3 kN/m stores F_t^2 / (2 k_t L_c).  Approaching at 0.2 m/s and
+    # sliding at 0.1 m/s: the damping part of the force on B is c_n 0.2 along +y and the
+    # tangential part is the updated history; the nodal parts sum to those (shape functions
+    # sum to one) and A gets the opposite.  Round-off: 1e-12 relative.
+    kn, kt, zeta, dt = 1e5, 2e4, 0.3, 1e-3
+    ground = np.array([[-2.0, -1.0], [2.0, -1.0], [2.0, 0.0], [-2.0, 0.0]])
+    x, en, mass, mat, table, pairs = two_body(ground, square(0, -0.01), kn=kn, kt=kt,
+                                              zeta=zeta)
+    mass[:4] = np.inf
+    shear = np.array([[-3.0, 0.0]])
+    u_n, u_t = contact.contact_energy(x, en, mat, table, pairs, shear)
+    assert u_n == pytest.approx(kn * 0.01**2 / 2.0, rel=1e-12)
+    assert u_t == pytest.approx(3.0**2 / (2.0 * kt * 1.0), rel=1e-12)
+    v = np.zeros_like(x)
+    v[4:] = [0.1, -0.2]
+    split = np.zeros((2, 8, 2))
+    force = np.zeros_like(x)
+    compute_contact_forces(x, v, mass, en, mat, table, pairs, shear, dt, force, split)
+    c_n = 2 * zeta * np.sqrt(kn * 1.0 * 1.0)
+    np.testing.assert_allclose(split[0, 4:].sum(axis=0), [0.0, c_n * 0.2], rtol=1e-12,
+                               atol=1e-12)
+    np.testing.assert_allclose(split[1, 4:].sum(axis=0), shear[0], rtol=1e-12, atol=1e-12)
+    assert shear[0, 0] == pytest.approx(-3.0 - kt * 0.1 * dt, rel=1e-12)  # eq 4.9, below cap
+    np.testing.assert_allclose(split[:, :4].sum(axis=1), -split[:, 4:].sum(axis=1),
+                               atol=1e-12)
+    # the total force is elastic + damping + tangential
+    np.testing.assert_allclose(force[4:].sum(axis=0),
+                               [shear[0, 0], kn * 0.01 + c_n * 0.2], rtol=1e-12)
+    # mid-step work: F . (v0 + v1) / 2 dt
+    f = np.array([[1.0, 2.0], [0.0, -1.0]])
+    v0 = np.array([[1.0, 0.0], [0.0, 1.0]])
+    v1 = np.array([[3.0, 0.0], [0.0, 3.0]])
+    assert contact.mid_step_work(f, v0, v1, 0.5) == pytest.approx((2.0 - 2.0) * 0.5, abs=1e-15)
+    assert contact.mid_step_work(f[:1], v0[:1], v1[:1], 0.5) == pytest.approx(1.0, rel=1e-15)
+    with pytest.raises(ValueError, match="same shape"):
+        contact.mid_step_work(f, v0[:1], v1, 0.5)
