@@ -103,3 +103,18 @@ def test_mpi_limit_load_equals_serial(tmp_path):
     b = json.loads((tmp_path / "mpi" / "summary.json").read_text())
     qa, qb = (s["checks"]["limit_pressure"]["computed"] for s in (a, b))
     assert qb == pytest.approx(qa, rel=0.005)
+
+
+def test_cli_bench_smoke(tmp_path):
+    """`hybrid bench` builds its own problem, reports the threading layer, writes JSON."""
+    out = tmp_path / "bench.json"
+    result = _run([PYTHON, "-m", "hybrid", "bench", "--sizes", "200", "--threads", "1",
+                   "--repeats", "1", "--problems", "tied", "--element-steps", "2e5",
+                   "--json", str(out)])
+    assert result.returncode == 0, result.stderr
+    assert "threading layer" in result.stdout
+    data = json.loads(out.read_text())
+    (row,) = data["results"]
+    assert row["problem"] == "tied" and row["threads"] == 1
+    assert row["elements"] == 196  # the nearest square block: 14 x 14 elements
+    assert row["element_steps_per_s"] > 0 and data["threading_layer"]
