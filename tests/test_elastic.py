@@ -67,3 +67,11 @@ def test_c4_slope_gravity(case, tmp_path):
     for name, check in summary["checks"].items():
         assert check.passed, (name, check)
     assert summary["mesh_convergence"]["max_change_over_max_stress"] < 0.02
+
+
+def test_c2_oedometer_case(case, tmp_path):
+    """The C2 case script: every check within the 0.5 % bar (exact to rounding for P2)."""
+    summary = case("oedometer").main(out=tmp_path)
+    for name, check in summary["checks"].items():
+        assert check.passed and check.error < 1e-6, (name, check)
+    assert (tmp_path / "stress_profile.png").is_file()
