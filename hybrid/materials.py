@@ -139,15 +139,15 @@ class Material:
         return math.sqrt((self.bulk_modulus + 4.0 * self.shear_modulus / 3.0) / self.density)
 
     def resolved_tensile_strength(self) -> float:
-        """Tension cut-off [kPa]: the given value, else the Mohr-Coulomb apex c cot(phi).
+        """Tension cut-off [kPa]: the given value, at most the Mohr-Coulomb apex c cot(phi)
+        (the default), as the shared kernel expects.
 
         For phi = 0 (Tresca) without a given value the cut-off is inactive (a large number).
         """
+        apex = self.cohesion / math.tan(math.radians(self.phi)) if self.phi > 0 else 1e30
         if self.tensile_strength is not None:
-            return float(self.tensile_strength)
-        if self.phi > 0:
-            return self.cohesion / math.tan(math.radians(self.phi))
-        return 1e30
+            return min(float(self.tensile_strength), apex)  # no tension beyond the apex
+        return apex
 
     def mohr_coulomb_row(self) -> tuple[float, ...]:
         """[K, G, c, sin phi, cos phi, sin psi, tensile strength] for the shared kernel."""

@@ -43,6 +43,9 @@ def test_derived_quantities():
     assert m.resolved_tensile_strength() == 0.0  # c = 0: no tension
     clay = Material("clay", E=1e4, nu=0.3, cohesion=69.0, phi=20.0)
     assert clay.resolved_tensile_strength() == pytest.approx(69 / math.tan(math.radians(20)))
+    # a given tension cut-off is capped at the apex c cot(phi) (the kernel's assumption)
+    capped = Material("clay", E=1e4, nu=0.3, cohesion=69.0, phi=20.0, tensile_strength=1e6)
+    assert capped.resolved_tensile_strength() == clay.resolved_tensile_strength()
     weak = clay.weakened(1.5)
     assert weak.cohesion == pytest.approx(46.0)
     assert math.tan(math.radians(weak.phi)) == pytest.approx(math.tan(math.radians(20)) / 1.5)
