@@ -883,23 +883,28 @@ def _element_boxes(x, element_nodes, margin, boxes):
 
 
 @njit(cache=True)
-def _is_candidate(i, j, boxes, element_nodes, node_group):
-    """Boxes of i and j overlap (inclusive) and the elements share no tie group."""
+def _is_candidate(i, j, boxes, element_nodes, node_group, max_shared):
+    """Boxes of i and j overlap (inclusive) and the elements share at most ``max_shared``
+    tie groups."""
     if boxes[i, 0] > boxes[j, 2] or boxes[j, 0] > boxes[i, 2]:
         return False
     if boxes[i, 1] > boxes[j, 3] or boxes[j, 1] > boxes[i, 3]:
         return False
     nen = element_nodes.shape[1]
+    shared = 0
     for ka in range(nen):
         ga = node_group[element_nodes[i, ka]]
         for kb in range(nen):
             if node_group[element_nodes[j, kb]] == ga:
-                return False
+                shared += 1
+                if shared > max_shared:
+                    return False
+                break
     return True
 
 
 @njit(cache=True)
-def _grid_pairs(boxes, element_nodes, node_group, big, h):
+def _grid_pairs(boxes, element_nodes, node_group, big, h, max_shared):
     """Candidate pairs (i < j, sorted) by a uniform grid of cell size ``h``.
 
     Elements flagged ``big`` bypass the grid and are tested against all others.  ``h`` must
@@ -962,7 +967,7 @@ def _grid_pairs(boxes, element_nodes, node_group, big, h):
         k = 0
         if big[i]:
             for j in range(i + 1, n):
-                if _is_candidate(i, j, boxes, element_nodes, node_group):
+                if _is_candidate(i, j, boxes, element_nodes, node_group, max_shared):
                     cand[k] = j
                     k += 1
         else:
@@ -977,12 +982,13 @@ def _grid_pairs(boxes, element_nodes, node_group, big, h):
                     c = cy_ * ncx + cx_
                     for q in range(start[c], start[c + 1]):
                         j = members[q]
-                        if j > i and _is_candidate(i, j, boxes, element_nodes, node_group):
+                        if j > i and _is_candidate(i, j, boxes, element_nodes, node_group,
+                                                   max_shared):
                             cand[k] = j
                             k += 1
             for q in range(big_ids.shape[0]):
                 j = big_ids[q]
-                if j > i and _is_candidate(i, j, boxes, element_nodes, node_group):
+                if j > i and _is_candidate(i, j, boxes, element_nodes, node_group, max_shared):
                     cand[k] = j
                     k += 1
             # insertion sort of the few candidates of i
@@ -1011,11 +1017,20 @@ def find_contact_pairs(
     node_group: np.ndarray,
     margin: float,
     bounds: tuple[float, float, float, float] | None = None,
+    *,
+    hinges: bool = False,
 ) -> np.ndarray:
     """Candidate contact pairs (i < j, sorted lexicographically), shape (n_pairs, 2) int64.
 
     Elements i, j are candidates when their boxes grown by ``margin`` [m] overlap and no node
-    of i shares a tie group (``node_group``) with a node of j.  Uniform grid broad phase:
+    of i shares a tie group (``node_group``) with a node of j.  With ``hinges=True`` pairs
+    that share exactly one tie group are candidates too (only pairs tied at two or more
+    vertices, i.e. along an edge, are left out): two elements whose common edge has failed
+    but that are still tied at one end (the other interfaces around that vertex hold) rotate
+    about that vertex and would otherwise interpenetrate with no contact force, and enter
+    contact with a deep overlap (a large energy kick) once the last tie goes.  Elements of a
+    conforming patch that share one vertex (diagonal neighbours) cannot overlap while the
+    patch is tied, so including them costs only a box test.  Uniform grid broad phase:
     elements are count-sorted into cells by their box centre, the cell size is the largest
     grown box, and each element is tested against the 3x3 neighbouring cells (cost linear in
     the number of elements).  ``bounds = (xmin, ymin, xmax, ymax)`` [m], if given, is the
@@ -1060,7 +1075,7 @@ def find_contact_pairs(
         big[np.argsort(size, kind="stable")[-_MAX_BIG:]] = True
     h = float(size[~big].max()) if (~big).any() else 1.0
     h = h * (1.0 + 1e-9) + 1e-300  # round-off guard: overlapping boxes stay in 3x3 cells
-    return _grid_pairs(boxes, element_nodes, node_group, big, h)
+    return _grid_pairs(boxes, element_nodes, node_group, big, h, 1 if hinges else 0)
 
 
 @njit(cache=True)
