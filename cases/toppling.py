@@ -4,7 +4,7 @@ Objective
     Splitting and contact together: a tied face that cannot carry tension breaks along its
     element interfaces where its stress turns tensile, topples and comes to rest as a pile.
 Problem
-    A 1.6 m wide, 10 m high face of 4 x 25 Q4 elements on a rigid ground strip (30 x 1 Q4,
+    A 1.6 m wide, 10 m high face of 4 x 25 Q4 elements on a rigid ground strip (60 x 1 Q4,
     fixed), leaning 0.8 m over its base (x shifted by 0.08 y). E = 100 000 kPa, nu = 0.25,
     rho = 2 t/m3; interfaces: no tension, no cohesion, phi = 35 deg; contact friction 35 deg,
     contact damping ratio 0.3; gravity 9.81 m/s2.
@@ -133,8 +133,8 @@ def main(out: str | Path = "results/toppling", **overrides) -> dict:
     x0 = 0.5 * p.height  # face's lower-left corner [m]
     p1, c1 = rectangle_mesh(p.width, p.height, p.nx, p.ny, origin=(x0, 0.0))
     p1[:, 0] += p.lean * p1[:, 1]
-    # ground strip 3 H long, from H before the face (elements 0.1 H); the face leans to +x
-    p2, c2 = rectangle_mesh(3.0 * p.height, 1.0, 30, 1, origin=(x0 - p.height, -1.0))
+    # ground strip 6 H long, from H before the face (elements 0.1 H); the face leans to +x
+    p2, c2 = rectangle_mesh(6.0 * p.height, 1.0, 60, 1, origin=(x0 - p.height, -1.0))
     n_face = len(c1)
     st = from_mesh(np.concatenate([p1, p2]), np.concatenate([c1, c2 + len(p1)]),
                    np.r_[np.zeros(n_face, int), np.ones(len(c2), int)], [mat, ground],

@@ -66,7 +66,7 @@ def test_block_drop_case(case, tmp_path):
     layout) and each base block's bottom row carries its column plus half the top block
     (5 % bar); E_kin + E_strain never exceeds E(0) + work of gravity by more than 1 %."""
     mod = case("block_drop")
-    s = mod.main(out=tmp_path, output_every=20_000, progress=False)
+    s = mod.main(out=tmp_path, output_every=5_000, progress=False)
     assert s["stop_reason"] == "rest"
     ref = s["checks"]["dropped_block_mean_sigma_yy"]
     assert ref.reference == pytest.approx(-2.0 * 9.81 * 0.5 / 2.0)  # -rho g h / 2 [kPa]
@@ -101,7 +101,7 @@ def test_toppling_case(case, tmp_path):
     stress, exactly), topples, comes to rest before t_end, and its energy stays within 1 %
     of its sources (E(0) + work of gravity)."""
     mod = case("toppling")
-    s = mod.main(out=tmp_path, output_every=20_000, progress=False)
+    s = mod.main(out=tmp_path, output_every=5_000, progress=False)
     assert s["stop_reason"] == "rest"
     _assert_bars(s)
     assert s["n_failed_tension"] > 0

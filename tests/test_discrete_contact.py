@@ -133,7 +133,7 @@ def test_d10_toppling_face_with_no_tension_splitting():
                               contact_phi_deg=35.0)
     p1, c1 = rectangle_mesh(1.6, 10.0, 4, 25, origin=(5.0, 0.0))
     p1[:, 0] += 0.08 * p1[:, 1]  # overhang: the face leans 0.8 m over its 1.6 m base
-    p2, c2 = rectangle_mesh(30.0, 1.0, 30, 1, origin=(-5.0, -1.0))
+    p2, c2 = rectangle_mesh(60.0, 1.0, 60, 1, origin=(-5.0, -1.0))
     st = from_mesh(np.concatenate([p1, p2]), np.concatenate([c1, c2 + len(p1)]),
                    np.r_[np.zeros(len(c1), int), np.ones(len(c2), int)], [mat, ground])
     st.fix(st.element_nodes[len(c1):].ravel())

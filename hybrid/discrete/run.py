@@ -111,7 +111,7 @@ def run(state: DiscreteState, *, until_time: float | None = None, max_steps: int
         checkpoint_every: int = 0, progress: bool = True,
         on_check: Callable[[DiscreteState], bool | None] | None = None,
         bbar: bool = True, split_plastic_strain: float | None = None,
-        contact_hinges: bool = False) -> RunResult:
+        contact_hinges: bool = True) -> RunResult:
     """Advance ``state`` in place until a time, a step count or rest (whichever comes first).
 
     until_time [s] (absolute state time), max_steps (steps of this call), until_rest: stop when
