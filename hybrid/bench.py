@@ -125,7 +125,8 @@ def measure(kind: str, n_elements: int, threads: int, repeats: int,
                 if k % 10 == 0:
                     vmax = float(np.max(np.abs(st.v)))
                     pairs = cmod.find_contact_pairs(st.x, st.element_nodes, st.node_group,
-                                                    max(2.0 * vmax * 10 * dt, 1e-3))
+                                                    max(2.0 * vmax * 10 * dt, 1e-3),
+                                                    hinges=True)  # as run() does by default
                     st.contact_shear = cmod.carry_contact_history(st.contact_pairs,
                                                                   st.contact_shear, pairs)
                     st.contact_pairs = pairs
