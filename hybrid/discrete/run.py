@@ -270,6 +270,7 @@ def run(state: DiscreteState, *, until_time: float | None = None, max_steps: int
             if k % check_every == 0 or (n_total is not None and k == n_total):
                 led = energy_ledger(state)
                 _monitor(state, led, e_start, src0, e_prev, tol_e, dt)
+                _check_distortion(state, dt, bool(contact))
                 e_now = led["kinetic"] + led["strain"] + led["contact_elastic"]
                 e_prev = e_now
                 peak_ke = max(peak_ke, led["kinetic"])
@@ -348,6 +349,19 @@ def _monitor(state, led, e_start, src0, e_prev, tol_e, dt) -> None:
             f"energy {e_now:.4g} kJ/m grew over 10x since the last check and exceeds twice its "
             f"sources ({supply:.4g} kJ/m). Likely cause: dt = {dt:.4g} s too large "
             "(reduce dt or the safety factor) or a too stiff contact.")
+
+
+def _check_distortion(state: DiscreteState, dt: float, contact: bool) -> None:
+    """Stop with a clear message when the elements have distorted so much that the run's time
+    step is no longer stable (it would otherwise end in NaN a few steps later)."""
+    crit = integrate.stable_time_step(state, contact=contact)
+    if dt > crit:
+        raise RuntimeError(
+            f"discrete run stopped at step {state.step} (t = {state.time:.6g} s): the elements "
+            f"have distorted so much that the stable time step fell to {crit:.4g} s, below the "
+            f"run's dt = {dt:.4g} s (large plastic flow pancakes an element). Continue with a "
+            "smaller dt (run(..., dt=...)), or let the flowing region split "
+            "(split_plastic_strain).")
 
 
 class _XdmfSeries:
