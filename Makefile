@@ -39,7 +39,7 @@ setup: deps $(VENV)/.installed
 
 # --- user commands -------------------------------------------------------------
 demo: setup
-	$(PY) -m hybrid run cases/flexible_footing.py --out results/flexible_footing
+	$(PY) -m hybrid run cases/footing_failure.py --out results/footing_failure
 
 lint: setup
 	$(PY) -m ruff check hybrid tests cases meshes

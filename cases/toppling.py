@@ -4,12 +4,15 @@ Objective
     Splitting and contact together: a tied face that cannot carry tension breaks along its
     element interfaces where its stress turns tensile, topples and comes to rest as a pile.
 Problem
-    A 1.6 m wide, 10 m high face of 4 x 25 Q4 elements on a rigid ground strip (60 x 1 Q4,
-    fixed), leaning 0.8 m over its base (x shifted by 0.08 y). E = 100 000 kPa, nu = 0.25,
-    rho = 2 t/m3; interfaces: no tension, no cohesion, phi = 35 deg; contact friction 35 deg,
-    contact damping ratio 0.3; gravity 9.81 m/s2.
+    A 1.6 m wide, 10 m high face of 4 x 25 Q4 elements bonded to a ground strip 6 H long
+    (one row of 0.4 m Q4, held), leaning 0.8 m over its base (x shifted by 0.08 y).
+    E = 100 000 kPa, nu = 0.25, rho = 2 t/m3; interfaces: no tension, no cohesion,
+    phi = 35 deg; contact friction 35 deg, contact damping ratio 0.3; gravity 9.81 m/s2.
 Set-up
-    Gravity switched on at t = 0; mass damping alpha = 0.5 1/s (light: a dynamic run). Every
+    The face starts from its elastic gravity state, solved by dolfinx (Q2) on the same mesh
+    (``meshes/face.py``) and handed over (``hybrid.handover``: every cell an element, the cell
+    mean stress at its Gauss points, the ground held); the face's interfaces and its bonded base
+    may split (no tension, no cohesion). Mass damping alpha = 0.5 1/s (light: a dynamic run). Every
     10 steps each intact interface is checked (thesis section 4.5: tension if sigma_N > 0,
     shear if tau > sigma_N' tan phi) and failed ones untie; every failure is recorded with its
     mode and the principal stresses at the interface (the Gauss points next to the edge, as
@@ -34,12 +37,18 @@ from pathlib import Path
 
 import numpy as np
 
-from hybrid.discrete import DiscreteMaterial, from_mesh, ties
-from hybrid.discrete.builders import rectangle_mesh
+from hybrid.continuum import solve_elastic
+from hybrid.discrete import ties
 from hybrid.discrete.energy import energy_excess, energy_peak_ratio
 from hybrid.discrete.run import run
+from hybrid.geometry import build_mesh, load_builder
+from hybrid.handover import Region, residual_force, to_discrete
 from hybrid.io import Check, write_summary
+from hybrid.materials import GRAVITY, Material
+from hybrid.model import Fixed, Model
 from hybrid.report import plot_energy
+
+MESHES = Path(__file__).resolve().parent.parent / "meshes"
 
 
 @dataclass
@@ -47,7 +56,6 @@ class Parameters:
     E: float = 1.0e5  # Young's modulus [kPa]
     nu: float = 0.25  # Poisson's ratio [-]
     density: float = 2.0  # [t/m3]
-    g: float = 9.81  # gravity [m/s2]
     width: float = 1.6  # face width at its base [m]
     height: float = 10.0  # face height [m]
     nx: int = 4  # elements across the face
@@ -90,7 +98,8 @@ def _n_bodies(st) -> int:
     return int(connected_components(g, directed=False)[0])
 
 
-def _plot_failures(path: Path, st, modes: np.ndarray, s1: np.ndarray, n_face: int) -> Path:
+def _plot_failures(path: Path, st, modes: np.ndarray, s1: np.ndarray, face: np.ndarray
+                   ) -> Path:
     """The face in its reference shape with every failed interface drawn by mode and sign."""
     import matplotlib
 
@@ -99,7 +108,7 @@ def _plot_failures(path: Path, st, modes: np.ndarray, s1: np.ndarray, n_face: in
     from matplotlib.collections import LineCollection, PolyCollection
 
     fig, ax = plt.subplots(figsize=(4.0, 7.0), dpi=100)
-    ax.add_collection(PolyCollection(st.x_ref[st.element_nodes[:n_face]], facecolors="0.9",
+    ax.add_collection(PolyCollection(st.x_ref[st.element_nodes[face]], facecolors="0.9",
                                      edgecolors="0.6", linewidths=0.3))
     failed = np.flatnonzero(modes > 0)
     seg = st.x_ref[st.interface_nodes[failed][:, :2]]
@@ -124,23 +133,29 @@ def main(out: str | Path = "results/toppling", **overrides) -> dict:
     """A leaning face with no-tension interfaces splits, topples and settles (D10)."""
     p = Parameters(**overrides)
     out = Path(out)
-    mat = DiscreteMaterial(E=p.E, nu=p.nu, density=p.density, interface_tensile_strength=0.0,
-                           interface_cohesion=0.0, interface_phi_deg=p.interface_phi,
-                           contact_damping=p.contact_damping, contact_phi_deg=p.contact_phi,
-                           phi_deg=p.interface_phi)
-    ground = DiscreteMaterial(E=p.E, nu=p.nu, density=p.density,
-                              contact_damping=p.contact_damping, contact_phi_deg=p.contact_phi)
+    # 1. continuum: the elastic gravity state of the face bonded to the ground (dolfinx Q2)
     x0 = 0.5 * p.height  # face's lower-left corner [m]
-    p1, c1 = rectangle_mesh(p.width, p.height, p.nx, p.ny, origin=(x0, 0.0))
-    p1[:, 0] += p.lean * p1[:, 1]
-    # ground strip 6 H long, from H before the face (elements 0.1 H); the face leans to +x
-    p2, c2 = rectangle_mesh(6.0 * p.height, 1.0, 60, 1, origin=(x0 - p.height, -1.0))
-    n_face = len(c1)
-    st = from_mesh(np.concatenate([p1, p2]), np.concatenate([c1, c2 + len(p1)]),
-                   np.r_[np.zeros(n_face, int), np.ones(len(c2), int)], [mat, ground],
-                   gravity=(0.0, -p.g))
-    st.fix(st.element_nodes[n_face:].ravel())
-    face_nodes = np.unique(st.element_nodes[:n_face])
+    mesh = build_mesh(load_builder(MESHES / "face.py"), width=p.width, height=p.height,
+                      nx=p.nx, ny=p.ny, lean=p.lean, x0=x0, ground_length=6.0 * p.height)
+    gamma = p.density * GRAVITY
+    rock = Material("face", E=p.E, nu=p.nu, unit_weight=gamma, plastic=False,
+                    interface_cohesion=0.0, interface_phi=p.interface_phi,
+                    interface_tensile_strength=0.0, contact_phi=p.contact_phi,
+                    contact_damping=p.contact_damping)
+    ground = Material("ground", E=p.E, nu=p.nu, unit_weight=gamma, plastic=False,
+                      contact_phi=p.contact_phi, contact_damping=p.contact_damping)
+    state = solve_elastic(Model(mesh, {"face": rock, "ground": ground},
+                                supports=[Fixed("base")]))
+    # 2. handover: the face (and its bonded base) may split; the ground strip is held
+    hand = to_discrete(state, region=Region(group="face"))
+    st = hand.discrete
+    face = hand.splittable
+    ties.limit_splitting(st, face)
+    st.fix(np.unique(st.element_nodes[~face]))
+    face_nodes = np.unique(st.element_nodes[face])
+    # the start is the continuum's equilibrium: out-of-balance force against the face weight
+    weight = float(st.mass[face_nodes].sum()) * GRAVITY
+    residual0 = float(np.linalg.norm(residual_force(st))) / weight
 
     # every failure recorded: mode and s1 at the moment of the check
     fail_mode = np.zeros(st.interface_elements.shape[0], dtype=np.int8)
@@ -193,10 +208,11 @@ def main(out: str | Path = "results/toppling", **overrides) -> dict:
                "first_failure_time": float(np.nanmin(fail_time)) if n_failed else None,
                "n_face_pieces": _n_bodies(st) - 1, "face_top_height_initial": top0,
                "face_top_height_final": top1,
+               "handover_residual_over_face_weight": residual0,
                "face_lowest_y": float(st.x[face_nodes, 1].min()),  # >= ~0: all on the ground
                "checks": checks}
     plot_energy(out / "energy.png", h)
-    _plot_failures(out / "failures.png", st, fail_mode, fail_s1, n_face)
+    _plot_failures(out / "failures.png", st, fail_mode, fail_s1, face)
     write_summary(out / "summary.json", summary)
     return summary
 

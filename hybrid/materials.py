@@ -39,6 +39,8 @@ class Material:
         contact_stiffness: k_n [kPa/m]; None lets the engine pick it from E and element size.
         contact_phi: friction angle of contacts between separated elements [deg]
             (default: phi).
+        contact_damping: viscous damping ratio zeta [-] of the normal contact spring
+            (0 <= zeta <= 1; 0: none, separated blocks rattle until mass damping stops them).
     """
 
     name: str
@@ -55,6 +57,7 @@ class Material:
     interface_tensile_strength: float | None = None
     contact_stiffness: float | None = None
     contact_phi: float | None = None
+    contact_damping: float = 0.0
 
     def __post_init__(self) -> None:
         def bad(param: str, value: object, rule: str) -> MaterialError:
@@ -65,6 +68,7 @@ class Material:
         numbers = {
             "E": self.E, "nu": self.nu, "unit_weight": self.unit_weight,
             "cohesion": self.cohesion, "phi": self.phi, "psi": self.psi,
+            "contact_damping": self.contact_damping,
         }
         for key in ("tensile_strength", "interface_cohesion", "interface_phi",
                     "interface_tensile_strength", "contact_stiffness", "contact_phi"):
@@ -97,6 +101,8 @@ class Material:
                 raise bad(key, value, "in [0, 90) degrees")
         if self.contact_stiffness is not None and self.contact_stiffness <= 0:
             raise bad("contact_stiffness", self.contact_stiffness, "> 0 kPa/m")
+        if not 0 <= self.contact_damping <= 1:
+            raise bad("contact_damping", self.contact_damping, "a damping ratio in [0, 1]")
 
     # --- derived quantities -------------------------------------------------------------
     @property

@@ -36,8 +36,11 @@ _MARK = {"passed": "pass", "failed": "**FAIL**", "reported": "report", "error": 
 def plot_curve(path: str | Path, x: Sequence[float], y: Sequence[float], *, xlabel: str,
                ylabel: str, title: str = "", label: str = "hybrid",
                references: Mapping[str, float] | None = None,
-               reference_unit: str = "") -> Path:
-    """PNG of a curve y(x) with each reference drawn as a labelled horizontal line.
+               reference_unit: str = "",
+               more: Mapping[str, tuple[Sequence[float], Sequence[float]]] | None = None
+               ) -> Path:
+    """PNG of a curve y(x) with each reference drawn as a labelled horizontal line and
+    ``more`` curves {label: (x, y)} beside it.
 
     Writes ``path`` (PNG) and ``path.with_suffix('.json')``: {x, y, xlabel, ylabel, references}.
     """
@@ -55,6 +58,10 @@ def plot_curve(path: str | Path, x: Sequence[float], y: Sequence[float], *, xlab
     path.parent.mkdir(parents=True, exist_ok=True)
     fig, ax = plt.subplots(figsize=(6.4, 4.4), dpi=100)
     ax.plot(x, y, "o-", ms=3, lw=1.5, color="C0", label=label)
+    extra = {str(k): (np.asarray(a, float), np.asarray(b, float))
+             for k, (a, b) in (more or {}).items()}
+    for j, (name, (xa, ya)) in enumerate(extra.items()):
+        ax.plot(xa, ya, "-", lw=1.2, color=f"C{len(refs) + j + 1}", label=name)
     styles = ("--", "-.", ":", (0, (5, 1)), (0, (3, 1, 1, 1)))
     for i, (name, value) in enumerate(refs.items()):
         ax.axhline(value, color=f"C{i + 1}", ls=styles[i % len(styles)], lw=1.2,
@@ -63,15 +70,18 @@ def plot_curve(path: str | Path, x: Sequence[float], y: Sequence[float], *, xlab
     ax.set_ylabel(ylabel)
     if title:
         ax.set_title(title)
-    ax.set_xlim(left=min(0.0, float(x.min())) if x.size else 0.0)
-    ax.set_ylim(bottom=min(0.0, float(y.min()) if y.size else 0.0))
+    ax.set_xlim(left=min([0.0, *(float(a.min()) for a in [x, *(e[0] for e in extra.values())]
+                                 if a.size)]))
+    ax.set_ylim(bottom=min([0.0, *(float(b.min()) for b in [y, *(e[1] for e in extra.values())]
+                                   if b.size)]))
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="best")
     fig.tight_layout()
     fig.savefig(path)
     plt.close(fig)
     data = {"x": x.tolist(), "y": y.tolist(), "xlabel": xlabel, "ylabel": ylabel,
-            "title": title, "references": refs}
+            "title": title, "references": refs,
+            "more": {k: {"x": a.tolist(), "y": b.tolist()} for k, (a, b) in extra.items()}}
     path.with_suffix(".json").write_text(json.dumps(data, indent=1) + "\n")
     return path
 
@@ -134,7 +144,9 @@ def plot_energy(path: str | Path, history: Mapping[str, Any]) -> Path:
 
 def plot_load_settlement(path: str | Path, settlement: Sequence[float],
                          pressure: Sequence[float], references: Mapping[str, float] | None = None,
-                         *, title: str = "Footing: load-settlement") -> Path:
+                         *, title: str = "Footing: load-settlement", label: str = "hybrid",
+                         more: Mapping[str, tuple[Sequence[float], Sequence[float]]] | None = None
+                         ) -> Path:
     """Footing pressure [kPa] against settlement [m], with limit loads as horizontal lines.
 
     ``references``: e.g. {"Prandtl": 1023.6, "Terzaghi": ..., "Meyerhof": ..., "Vesic": ...}
@@ -142,7 +154,7 @@ def plot_load_settlement(path: str | Path, settlement: Sequence[float],
     """
     return plot_curve(path, settlement, pressure, xlabel="footing settlement [m]",
                       ylabel="mean footing pressure [kPa]", title=title, references=references,
-                      reference_unit="kPa")
+                      reference_unit="kPa", label=label, more=more)
 
 
 def plot_thrust_translation(path: str | Path, translation: Sequence[float],

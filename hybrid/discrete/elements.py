@@ -128,7 +128,7 @@ def _mc_update(txx, tyy, tzz, txy, K, G, cohesion, sin_phi, cos_phi, sin_psi, te
 
 @numba.njit(cache=True, parallel=True)
 def _q4_kernel(x, v, dt, element_nodes, element_material, material_table, elastic_only,
-               stress, plastic_strain, yielded, bbar, force):
+               stress, plastic_strain, yielded, bbar, plastic_cap, force):
     """Q4 stress update + internal force (module docstring); writes force (n_nodes, 2).
 
     bbar False: plain 2x2 integration of the volumetric part too (locks; for comparison)."""
@@ -229,7 +229,8 @@ def _q4_kernel(x, v, dt, element_nodes, element_material, material_table, elasti
             sxx, syy, szz, sxy = _objective_trial(
                 stress[e, gp, 0], stress[e, gp, 1], stress[e, gp, 2], stress[e, gp, 3], l12,
                 l21, dexx, deyy, dgxy, lam, G)
-            if not elastic:  # isotropic return: commutes with the rotation
+            # isotropic return (commutes with the rotation); none beyond the plastic cap
+            if not elastic and plastic_strain[e, gp] < plastic_cap:
                 sxx, syy, szz, sxy, dp, yl = _mc_update(
                     sxx, syy, szz, sxy, K, G, material_table[m, 2], material_table[m, 3],
                     material_table[m, 4], material_table[m, 5], material_table[m, 6])
@@ -275,7 +276,7 @@ def _q4_kernel(x, v, dt, element_nodes, element_material, material_table, elasti
 
 @numba.njit(cache=True, parallel=True)
 def _t3_kernel(x, v, dt, element_nodes, element_material, material_table, elastic_only,
-               stress, plastic_strain, yielded, force):
+               stress, plastic_strain, yielded, plastic_cap, force):
     """T3 (one point) stress update + internal force; writes force (n_nodes, 2)."""
     ne = element_nodes.shape[0]
     for e in numba.prange(ne):
@@ -322,7 +323,7 @@ def _t3_kernel(x, v, dt, element_nodes, element_material, material_table, elasti
         sxx, syy, szz, sxy = _objective_trial(
             stress[e, 0, 0], stress[e, 0, 1], stress[e, 0, 2], stress[e, 0, 3], l12, l21, dexx,
             deyy, dgxy, lam, G)
-        if not elastic_only[m]:
+        if not elastic_only[m] and plastic_strain[e, 0] < plastic_cap:
             sxx, syy, szz, sxy, dp, yl = _mc_update(
                 sxx, syy, szz, sxy, K, G, material_table[m, 2], material_table[m, 3],
                 material_table[m, 4], material_table[m, 5], material_table[m, 6])
@@ -379,18 +380,21 @@ def _strain_energy_kernel(x, element_nodes, element_material, material_table, st
 
 
 def element_forces(x, v, dt, element_nodes, element_material, material_table, elastic_only,
-                   stress, plastic_strain, yielded, force, bbar: bool = True) -> None:
+                   stress, plastic_strain, yielded, force, bbar: bool = True,
+                   plastic_cap: float = math.inf) -> None:
     """Array-level call of the element kernel (no validation: the engine's hot path).
 
     Updates stress / plastic_strain / yielded for the increment du = dt v and writes the
-    internal force I on the current configuration x into force (n_nodes, 2).
+    internal force I on the current configuration x into force (n_nodes, 2). A Gauss point
+    whose accumulated plastic strain has reached ``plastic_cap`` responds elastically from then
+    on (see ``run``'s plastic_strain_cap).
     """
     if element_nodes.shape[1] == 4:
         _q4_kernel(x, v, dt, element_nodes, element_material, material_table, elastic_only,
-                   stress, plastic_strain, yielded, bbar, force)
+                   stress, plastic_strain, yielded, bbar, plastic_cap, force)
     else:
         _t3_kernel(x, v, dt, element_nodes, element_material, material_table, elastic_only,
-                   stress, plastic_strain, yielded, force)
+                   stress, plastic_strain, yielded, plastic_cap, force)
 
 
 def internal_forces(state: DiscreteState, dt: float = 0.0, *, bbar: bool = True) -> np.ndarray:

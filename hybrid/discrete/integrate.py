@@ -171,19 +171,21 @@ def prime(state: DiscreteState) -> None:
     zero = np.zeros_like(state.v)
     element_forces(state.x, zero, 0.0, state.element_nodes, state.element_material,
                    state.material_table, state.elastic_only, state.stress,
-                   state.plastic_strain, state.yielded, state.internal_force)
+                   state.plastic_strain, state.yielded, state.internal_force,
+                   plastic_cap=0.0)  # no return mapping: the stresses stay as they are
     state.primed = True
 
 
 def step(state: DiscreteState, dt: float, *, alpha: float = 0.0, local_damping: float = 0.0,
          contact_force: np.ndarray | None = None, bbar: bool = True,
-         external: bool = True) -> None:
+         external: bool = True, plastic_cap: float = math.inf) -> None:
     """Advance the state by one explicit step of size dt [s] (hot path: only scalar checks;
     ``run`` checks dt against the stable step once).
 
     ``contact_force`` (n_nodes, 2), if given, holds the contact forces at the current
     configuration (from ``hybrid.discrete.contact.contact_forces``). ``external=False`` skips
     reading ``state.external_force`` (pass it only when that array is all zero).
+    ``plastic_cap``: Gauss points with this much plastic strain respond elastically.
     """
     if not (dt > 0.0 and math.isfinite(dt)):
         raise ValueError(f"dt = {dt!r}: must be a finite positive time step [s]")
@@ -200,7 +202,7 @@ def step(state: DiscreteState, dt: float, *, alpha: float = 0.0, local_damping: 
                   state.v, state.x, state.group_energy)
     element_forces(state.x, state.v, float(dt), state.element_nodes, state.element_material,
                    state.material_table, state.elastic_only, state.stress, state.plastic_strain,
-                   state.yielded, state.internal_force, bbar)
+                   state.yielded, state.internal_force, bbar, float(plastic_cap))
     state.time += dt
     state.step += 1
 

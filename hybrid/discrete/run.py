@@ -111,7 +111,7 @@ def run(state: DiscreteState, *, until_time: float | None = None, max_steps: int
         checkpoint_every: int = 0, progress: bool = True,
         on_check: Callable[[DiscreteState], bool | None] | None = None,
         bbar: bool = True, split_plastic_strain: float | None = None,
-        contact_hinges: bool = True) -> RunResult:
+        plastic_strain_cap: float | None = None, contact_hinges: bool = True) -> RunResult:
     """Advance ``state`` in place until a time, a step count or rest (whichever comes first).
 
     until_time [s] (absolute state time), max_steps (steps of this call), until_rest: stop when
@@ -127,12 +127,17 @@ def run(state: DiscreteState, *, until_time: float | None = None, max_steps: int
     and returns True to stop the run (stop reason "callback"). bbar: Q4 with the
     mean-dilatation B-bar (default, no volumetric locking) or full 2x2 integration (False, as
     dolfinx Q1). split_plastic_strain: interfaces also fail where the adjacent Gauss points'
-    mean plastic strain exceeds it (see ``ties``). contact_hinges: also take as contact
-    candidates the element pairs still tied at a single vertex (``find_contact_pairs(...,
-    hinges=True)``): after a partial split two elements whose common edge failed rotate about
-    that vertex and otherwise interpenetrate without any contact force, then repel with a
-    deep overlap when the last tie fails (issue 5: the retaining-wall collapse gained ~1 600
-    kJ/m through the normal contact forces by t = 0.2 s without it, 0.006 kJ/m with it).
+    mean plastic strain exceeds it (see ``ties``). plastic_strain_cap: a Gauss point whose
+    accumulated plastic strain reaches it responds elastically from then on: the element has
+    handed its failure to its failed interfaces and slides on them instead of flowing further
+    (issue 5: without it a psi = 0 element under the footing edge of H2 flowed to a plastic
+    strain of 43 at one Gauss point and turned inside out at t = 0.06 s). contact_hinges: also
+    take as contact candidates the element pairs still tied at a single vertex
+    (``find_contact_pairs(..., hinges=True)``): after a partial split two elements whose common
+    edge failed rotate about that vertex and otherwise interpenetrate without any contact force,
+    then repel with a deep overlap when the last tie fails (issue 5: the retaining-wall collapse
+    gained ~1 600 kJ/m through the normal contact forces by t = 0.2 s without it, 0.006 kJ/m
+    with it).
     Raises RuntimeError if the run turns unstable (non-finite numbers or energy growing
     without a source).
     """
@@ -144,6 +149,10 @@ def run(state: DiscreteState, *, until_time: float | None = None, max_steps: int
         raise ValueError(f"damping = {damping!r}: alpha must be >= 0 [1/s]")
     if not 0.0 <= local_damping < 1.0:
         raise ValueError(f"local_damping = {local_damping!r}: must be in [0, 1)")
+    cap = math.inf if plastic_strain_cap is None else float(plastic_strain_cap)
+    if not cap > 0.0:
+        raise ValueError(f"plastic_strain_cap = {plastic_strain_cap!r}: must be > 0 (None: no "
+                         "cap)")
     if until_rest is not None and not until_rest > 0.0:
         raise ValueError(f"until_rest = {until_rest!r}: must be a positive energy ratio")
     if (output_every or checkpoint_every) and out_dir is None:
@@ -252,7 +261,8 @@ def run(state: DiscreteState, *, until_time: float | None = None, max_steps: int
                         state.contact_table, state.contact_pairs, state.contact_shear, dt, cforce,
                         split)
             integrate.step(state, dt, alpha=damping, local_damping=local_damping,
-                           contact_force=cforce, bbar=bbar, external=has_ext)
+                           contact_force=cforce, bbar=bbar, external=has_ext,
+                           plastic_cap=cap)
             if contact and n_pairs:
                 # minus the work of the tangential / damping forces on the mid-step velocity
                 w_t = cmod.mid_step_work(split[1], v_start, state.v, dt)

@@ -112,7 +112,8 @@ def _as_discrete(m, i: int) -> DiscreteMaterial:
         interface_phi_deg=m.phi if m.interface_phi is None else m.interface_phi,
         interface_tensile_strength=(ft if m.interface_tensile_strength is None
                                     else m.interface_tensile_strength),
-        contact_kn=m.contact_stiffness, contact_phi_deg=m.contact_phi)
+        contact_kn=m.contact_stiffness, contact_phi_deg=m.contact_phi,
+        contact_damping=m.contact_damping)
 
 
 def material_rows(materials, element_size: float):
@@ -187,6 +188,8 @@ class DiscreteState:
     contact_shear: np.ndarray | None = None  # (n_pairs, 2) tangential spring force history [kN/m]
     primed: bool = False  # internal_force consistent with (x, stress)
     dt: float = 0.0  # time step of the last run [s] (reused on restart when dt is not given)
+    rigid_links: np.ndarray | None = None  # (n_links, 2) int64 node pairs kept in one tie
+    #     group whatever splits (``tie_rigidly``: a rigid, non-rotating platen such as a footing)
 
     def __post_init__(self) -> None:
         n = self.x.shape[0]
@@ -203,6 +206,8 @@ class DiscreteState:
             self.contact_pairs = np.zeros((0, 2), dtype=np.int64)
         if self.contact_shear is None:
             self.contact_shear = np.zeros((0, 2))
+        if self.rigid_links is None:
+            self.rigid_links = np.zeros((0, 2), dtype=np.int64)
 
     # -- sizes ------------------------------------------------------------------------------
     @property
@@ -230,6 +235,32 @@ class DiscreteState:
         if self.group_energy is not None and self.group_energy.shape[0] != ng:
             self.ledger[2:6] += self.group_energy.sum(axis=0)
             self.group_energy = np.zeros((ng, 4))
+
+    def tie_rigidly(self, nodes) -> None:
+        """Give the ``nodes`` (indices or a bool mask) and everything tied to them one common
+        velocity for good: a rigid platen that translates without rotating (a rough rigid
+        footing, a loading plate). Their forces and masses are summed; the common velocity is
+        the mass-weighted mean (momentum kept). Interface failures never separate them."""
+        idx = np.asarray(nodes)
+        idx = np.flatnonzero(idx) if idx.dtype == bool else idx.astype(np.int64)
+        if idx.size < 2:
+            return
+        if idx.min() < 0 or idx.max() >= self.n_nodes:
+            raise ValueError("tie_rigidly: node indices out of range 0..n_nodes-1")
+        links = np.column_stack([idx[:-1], idx[1:]])
+        self.rigid_links = np.concatenate([self.rigid_links, links]).astype(np.int64)
+        groups = np.unique(self.node_group[idx])
+        members = np.flatnonzero(np.isin(self.node_group, groups))
+        m = self.mass[members]
+        self.v[members] = (m[:, None] * self.v[members]).sum(axis=0) / m.sum()
+        node_group = self.node_group.copy()
+        node_group[members] = groups[0]
+        _, node_group = np.unique(node_group, return_inverse=True)  # compact, order kept
+        self.node_group = node_group.astype(np.int64)
+        self.group_ptr, self.group_nodes = groups_csr(self.node_group,
+                                                      int(self.node_group.max()) + 1)
+        self.refresh_groups()
+        self.primed = False
 
     # -- convenience ------------------------------------------------------------------------
     def fix(self, mask, *, x: bool = True, y: bool = True, velocity=(0.0, 0.0)) -> None:
@@ -273,6 +304,8 @@ class DiscreteState:
             kw = {}
             for f in fields(cls):
                 if f.name not in data:
+                    if f.default is None:  # optional field of a newer layout
+                        continue
                     raise ValueError(f"checkpoint {path} lacks field {f.name!r}")
                 a = data[f.name]
                 if f.name in ("time", "dt"):

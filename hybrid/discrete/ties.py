@@ -142,7 +142,8 @@ def split_interfaces(state: DiscreteState, failed) -> int:
     groups = np.unique(state.node_group[state.interface_nodes[idx].ravel()])
     # intact interfaces touching the affected groups: their node pairs (a0-b0, a1-b1)
     ifn = state.interface_nodes[state.interface_intact]
-    links = np.concatenate([ifn[:, [0, 2]], ifn[:, [1, 3]]])
+    # plus the permanent links of rigid platens (``DiscreteState.tie_rigidly``)
+    links = np.concatenate([ifn[:, [0, 2]], ifn[:, [1, 3]], state.rigid_links])
     touch = np.isin(state.node_group[links[:, 0]], groups)
     links = links[touch]
     ng_old = state.n_groups

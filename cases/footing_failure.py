@@ -1,0 +1,230 @@
+"""H2: a strip footing pushed past collapse and followed as it fails (thesis 5.4.1).
+
+Objective
+    The hybrid pipeline end to end: continuum load-settlement to collapse, handover of the
+    yielded region to discrete elements, the failure followed under a pressure above the
+    collapse load, then unloading and rest.
+Problem
+    The thesis footing: B = 1.2 m strip, soil c = 69 kPa, phi = 20 deg (Table 5.1 strengths),
+    psi = 0, gamma = 20 kN/m3 (assumed), E = 100 MPa, nu = 0.3; half model by symmetry.
+Set-up
+    1. Continuum (dolfinx, Q2 quadrilaterals): gravity switched on, then the footing pressure
+       raised until Newton finds no equilibrium: the last converged pressure is the collapse
+       load (compare Terzaghi / Meyerhof / Vesic, C7).
+    2. Handover at the last converged state: every cell becomes a Q4 element; interfaces in the
+       yielded region grown by ``region_layers`` may split (interface strength = the soil's
+       c, phi, tension cut-off c cot phi); cells beyond ``freeze_layers`` more layers are held.
+    3. Discrete (numba): the pressure raised to ``pressure`` (1 800 kPa) over ``ramp_time``,
+       held until the footing has settled ``target_settlement`` (0.5 m), removed over
+       ``ramp_time``, then run to rest.
+Verification (report; H2 has no closed form)
+    Splitting under the footing edges, heave beside the footing, rest after unloading, bounded
+    energy, element count and mass unchanged.
+References
+    G. S. Bala (2008), thesis, section 5.4.1 (the footing is loaded to 1 800 kPa there).
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+import numpy as np
+
+from hybrid.continuum import PlasticSolver
+from hybrid.discrete.energy import energy_excess, energy_peak_ratio
+from hybrid.discrete.figures import plot_configuration
+from hybrid.discrete.run import run
+from hybrid.geometry import build_mesh, load_builder
+from hybrid.handover import Region, to_discrete
+from hybrid.io import Check, plot_cell_field, write_continuum_xdmf, write_summary
+from hybrid.materials import Material
+from hybrid.model import Fixed, Model, Pressure, Roller
+from hybrid.references import strip_footing_estimates
+from hybrid.report import plot_energy, plot_load_settlement
+
+MESHES = Path(__file__).resolve().parent.parent / "meshes"
+
+
+@dataclass
+class Parameters:
+    cohesion: float = 69.0  # c [kPa]
+    phi: float = 20.0  # [deg]
+    psi: float = 0.0  # [deg]
+    unit_weight: float = 20.0  # gamma [kN/m3] (assumed)
+    E: float = 100_000.0  # [kPa]
+    nu: float = 0.3  # [-]
+    footing_width: float = 1.2  # B [m]
+    width: float = 4.8  # modelled half-width [m]
+    depth: float = 3.0  # modelled depth [m]
+    fine: float = 0.08  # element size at the footing edge [m]
+    coarse: float = 0.4  # element size far away [m]
+    continuum_steps: int = 24  # pressure increments up to ``pressure``
+    pressure: float = 1800.0  # footing pressure in the discrete phase [kPa]
+    target_settlement: float = 0.5  # settlement at which the footing is unloaded [m]
+    ramp_time: float = 0.05  # loading / unloading ramp [s]
+    max_time: float = 3.0  # give up the loaded phase after this time [s]
+    region_layers: int = 2  # growth of the splittable region around the yielded cells
+    freeze_layers: int = 6  # cells beyond this many layers of the region are held
+    damping: float = 2.0  # mass damping alpha [1/s] in the discrete phase
+    rest: float = 1e-4  # kinetic / strain energy ratio taken as rest
+    output_every: int = 400  # discrete steps between outputs (0: none)
+    safety: float = 0.5  # time step as a fraction of the stable one
+    progress: bool = True  # progress bar of the discrete runs
+    split_plastic_strain: float = 0.05  # bonds also fail beyond this plastic strain [-]
+    plastic_strain_cap: float = 0.3  # element flow stops here, sliding takes over [-]
+    contact_damping: float = 0.2  # normal contact damping ratio zeta [-]
+    interface_cohesion: float | None = None  # bond cohesion [kPa] (None: c)
+    interface_phi: float | None = None  # bond friction angle [deg] (None: phi)
+    interface_tensile_strength: float | None = None  # bond tension [kPa] (None: c cot phi)
+
+
+def main(out: str | Path = "results/footing_failure", **overrides) -> dict:
+    """Footing failure (H2): continuum to collapse, handover, discrete failure and rest."""
+    p = Parameters(**overrides)
+    out = Path(out)
+    b = p.footing_width / 2
+    mesh = build_mesh(load_builder(MESHES / "footing.py"), width=p.width, depth=p.depth,
+                      half_footing=b, fine=p.fine, coarse=p.coarse, cells="quadrilateral")
+    soil = Material("soil", E=p.E, nu=p.nu, unit_weight=p.unit_weight, cohesion=p.cohesion,
+                    phi=p.phi, psi=p.psi, interface_cohesion=p.interface_cohesion,
+                    interface_phi=p.interface_phi,
+                    interface_tensile_strength=p.interface_tensile_strength,
+                    contact_damping=p.contact_damping)
+    # the load factor is the footing pressure in kPa
+    model = Model(mesh, {"soil": soil},
+                  supports=[Fixed("base"), Roller("symmetry", "x"), Roller("right", "x")],
+                  loads=[Pressure("footing", 1.0)])
+
+    # 1. continuum: gravity, then pressure until no equilibrium
+    solver = PlasticSolver(model, degree=2)
+    solver.apply_gravity(steps=2)
+    solver.reset_displacement()
+    footing_point = np.array([[0.0, 0.0]])
+    curve = [(0.0, 0.0)]
+    solver.monitors["settlement"] = lambda: -float(
+        _displacement(solver, footing_point)[0, 1])
+    analysis = solver.ramp(p.pressure, p.continuum_steps)
+    curve += [(r.monitors["settlement"], r.load_factor) for r in solver.history
+              if "settlement" in r.monitors]
+    q_collapse = analysis.factor
+    state = solver.state()
+    estimates = strip_footing_estimates(p.cohesion, p.phi, p.unit_weight, p.footing_width)
+
+    # 2. handover
+    hand = to_discrete(state, region=Region(layers=p.region_layers),
+                       freeze_layers=p.freeze_layers)
+    summary: dict = {"case": "footing_failure (H2)", "out": str(out), "parameters": asdict(p),
+                     "continuum": {"cells": state.info["cells"], "steps": state.info["steps"],
+                                   "newton_iterations": state.info["newton_iterations"],
+                                   "wall_time_s": state.info["wall_time_s"],
+                                   "collapse_pressure_kPa": q_collapse,
+                                   "reached_target": analysis.completed,
+                                   "curve": curve},
+                     "checks": {f"collapse_vs_{k}": Check(q_collapse, v, None, "kPa", k)
+                                for k, v in estimates.items()}}
+    write_continuum_xdmf(out / "continuum.xdmf", state)
+    plot_cell_field(out / "handover_plastic_strain.png", model.mesh,
+                    state.cell_plastic_strain(), title="Plastic strain at handover",
+                    label="plastic strain [-]", cmap="magma_r")
+    if hand.discrete is None:  # MPI ranks other than 0 stop here
+        return summary
+    disc = hand.discrete
+    summary["handover"] = hand.report
+
+    # 3. discrete: raise, hold until the target settlement, remove, rest
+    footing_nodes = hand.boundary_nodes["footing"]
+    disc.tie_rigidly(footing_nodes)  # a rigid rough footing carries the load from here on
+    window = (0.0, 2.5 * p.footing_width, -1.5 * p.footing_width, 0.5 * p.footing_width)
+    plot_configuration(out / "discrete_start.png", disc, window=window,
+                       title="Discrete start: plastic strain at handover")
+    y0 = disc.x[footing_nodes, 1].copy()
+    surface = np.flatnonzero(np.isclose(disc.x_ref[:, 1], disc.x_ref[:, 1].max())
+                             & (disc.x_ref[:, 0] > b + 1e-9))
+    q0 = q_collapse
+    t_start = disc.time
+    phase = {"name": "loading", "t_unload": None, "settlement_at_unloading": None}
+    curve_discrete: list[tuple[float, float]] = []
+
+    def settlement() -> float:
+        return float(np.mean(y0 - disc.x[footing_nodes, 1]))
+
+    def history(s) -> bool:
+        t = s.time - t_start
+        if phase["name"] == "loading":
+            q = q0 + (p.pressure - q0) * min(t / p.ramp_time, 1.0)
+            if settlement() >= p.target_settlement or t >= p.max_time:
+                phase.update(name="unloading", t_unload=t,
+                             settlement_at_unloading=settlement())
+        if phase["name"] == "unloading":
+            q = p.pressure * max(1.0 - (t - phase["t_unload"]) / p.ramp_time, 0.0)
+            if q == 0.0:
+                phase["name"] = "rest"
+        if phase["name"] == "rest":
+            q = 0.0
+        hand.set_load_factor(q / q0)
+        curve_discrete.append((settlement(), q))
+        return phase["name"] == "rest"
+
+    mass0, n0 = float(disc.mass.sum()), disc.n_elements
+    opts = dict(damping=p.damping, split_plastic_strain=p.split_plastic_strain,
+                plastic_strain_cap=p.plastic_strain_cap, split_every=10, progress=p.progress)
+    loaded = run(disc, until_time=t_start + p.max_time + 2 * p.ramp_time, safety=p.safety,
+                 output_every=p.output_every, out_dir=out / "discrete", on_check=history,
+                 check_every=20, **opts)
+    settled = run(disc, until_rest=p.rest, max_steps=200_000, **opts)
+    heave = float(np.max(disc.x[surface, 1] - disc.x_ref[surface, 1]))
+    excess = max(energy_excess(loaded.history), energy_excess(settled.history))
+    h = settled.history
+    rest_ratio = float(h["kinetic"][-1] / max(h["kinetic"].max(), h["strain"][-1]))
+    steps = loaded.steps + settled.steps
+    wall = loaded.wall_time + settled.wall_time
+    summary["discrete"] = {
+        "elements": disc.n_elements, "mass_t_per_m": float(disc.mass.sum()),
+        "dt_s": loaded.dt, "time_loaded_s": loaded.time - t_start,
+        "time_to_rest_s": settled.time - t_start,
+        "unloaded_at_s": phase["t_unload"],
+        "settlement_at_unloading_m": phase["settlement_at_unloading"],
+        "final_settlement_m": settlement(), "max_heave_beside_footing_m": heave,
+        "interfaces_failed": int((~disc.interface_intact).sum()),
+        "interfaces": int(disc.interface_intact.size),
+        "energy_peak_over_supply": max(energy_peak_ratio(loaded.history),
+                                       energy_peak_ratio(h)),
+        "steps": steps, "wall_time_s": wall, "stop": settled.stop_reason,
+        "element_steps_per_s": steps * disc.n_elements / max(wall, 1e-9),
+        "outputs": [str(f) for f in loaded.files if f.suffix != ".png"],
+    }
+    checks = summary["checks"]
+    checks["reached_target_settlement"] = Check(
+        float(phase["settlement_at_unloading"] or settlement()), p.target_settlement, None, "m",
+        "report: settlement when the load was removed (target)")
+    checks["energy_excess_over_sources"] = Check(
+        excess, 0.0, 0.01, "-", "E_kin + E_strain + E_contact <= E(0) + work of loads/gravity")
+    checks["rest_kinetic_ratio"] = Check(rest_ratio, 0.0, p.rest, "-",
+                                         "at rest: E_kin / max(peak E_kin, E_strain)")
+    checks["elements_conserved"] = Check(float(disc.n_elements), float(n0), 0.0)
+    checks["mass_conserved"] = Check(float(disc.mass.sum()), mass0, 1e-12, "t/m")
+    write_summary(out / "summary.json", summary)
+    sd, qd = np.array(curve_discrete).T if curve_discrete else (np.zeros(0), np.zeros(0))
+    sc, qc = np.array(curve).T
+    plot_load_settlement(out / "load_settlement.png", sc, qc, estimates, label="continuum",
+                         more={"discrete (applied pressure)": (sc[-1] + sd, qd)},
+                         title="H2: footing load-settlement, continuum then discrete")
+    plot_energy(out / "energy_loaded.png", loaded.history)
+    plot_energy(out / "energy_rest.png", h)
+    plot_configuration(out / "final.png", disc, window=window,
+                       title=f"At rest: settlement {settlement():.3f} m, "
+                             f"{int((~disc.interface_intact).sum())} failed interfaces")
+    return summary
+
+
+def _displacement(solver: PlasticSolver, points: np.ndarray) -> np.ndarray:
+    from hybrid.continuum.probe import evaluate
+
+    return evaluate(solver.u, points)
+
+
+if __name__ == "__main__":
+    from hybrid.case import run_case
+
+    raise SystemExit(run_case(main, Parameters))

@@ -1,0 +1,260 @@
+"""H3: the backfill of a retaining wall collapses when the wall is removed (thesis 5.4.2).
+
+Objective
+    The hybrid pipeline on a cohesionless backfill: continuum active state, handover, then the
+    wall taken away and the backfill followed as it fails and runs out to rest; the angle of the
+    failure wedge is measured from the failed interfaces and compared with Rankine's
+    45 + phi / 2.
+Problem
+    The thesis wall: H = 10 m, dry sand phi = 30 deg, c = 0, gamma = 16.5 kN/m3, E = 70 MPa,
+    nu = 0.35, psi = phi (associated, as Rankine's theory assumes; with psi = 0 the continuum's
+    shear band leaves the heel at about 50 deg, between Coulomb and Roscoe). The backfill
+    (``length`` = 2 H) stands on a 1 m ground layer (elastic, same E and gamma) that runs on
+    ``front`` = 2 H in front of the wall, where the collapsed sand spreads. Rough base (the
+    backfill is tied to the ground), smooth wall, structured quadrilaterals of ``size``.
+Set-up
+    1. Continuum (dolfinx, Q2): gravity switched on with the wall held (at rest); active
+       stage: the wall translated ``translation`` away from the backfill (thrust against
+       Rankine, K_a = 1/3); passive stage on a copy (``passive_translation`` toward the
+       backfill, K_p = 3), reported.
+    2. Handover of the active state: every cell becomes a Q4 element; the backfill's
+       interfaces may split (bond strength = the sand's: c = 0, phi, no tension); the ground is
+       held (a rigid base and run-out surface).
+    3. Discrete: the wall is removed (its nodes released) and the backfill is followed until
+       rest; bonds also fail beyond ``split_plastic_strain``, element flow stops at
+       ``plastic_strain_cap`` (``hybrid.discrete.run``).
+Verification
+    Wedge angle: the back of the failed zone (at each level of the backfill the failed
+    interface furthest from the wall, reference shape) is fitted with a straight line; its
+    inclination when the top of the wall face has moved ``wedge_at`` = 0.1 H is compared with
+    45 + phi/2 = 60 deg (bar 5 deg, issue 5). The same fit at 0.01 H ... 0.2 H of movement and
+    at rest is reported: the scarp retreats and flattens as the debris runs out. The run must
+    reach rest with bounded energy (E_kin + E_strain + E_contact never above the initial
+    energy plus the work of gravity) and keep its elements and mass. Reported: the run-out
+    (toe position), the final slope angle, the active / passive thrusts against Rankine.
+References
+    Rankine (1857); G. S. Bala (2008), thesis, section 5.4.2.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+import numpy as np
+
+from hybrid.continuum import PlasticSolver
+from hybrid.discrete.energy import energy_excess, energy_peak_ratio
+from hybrid.discrete.figures import plot_configuration
+from hybrid.discrete.run import run
+from hybrid.geometry import build_mesh, load_builder
+from hybrid.handover import Region, to_discrete
+from hybrid.io import Check, plot_cell_field, write_continuum_xdmf, write_summary
+from hybrid.materials import Material
+from hybrid.model import Displacement, Fixed, Model, Roller
+from hybrid.report import plot_energy
+
+MESHES = Path(__file__).resolve().parent.parent / "meshes"
+
+
+@dataclass
+class Parameters:
+    height: float = 10.0  # wall height H [m]
+    length: float = 20.0  # backfill modelled behind the wall [m]
+    front: float = 20.0  # ground in front of the wall [m]
+    size: float = 0.5  # element size [m]
+    unit_weight: float = 16.5  # gamma [kN/m3]
+    phi: float = 30.0  # [deg]
+    psi: float = 30.0  # dilation [deg] (associated, as Rankine's theory and C8)
+    E: float = 70_000.0  # [kPa]
+    nu: float = 0.35  # [-]
+    translation: float = 0.02  # active wall movement in the continuum [m]
+    passive_translation: float = 0.0  # passive stage (0: skipped) [m]
+    steps: int = 10  # continuum increments per stage
+    split_plastic_strain: float = 0.02  # bonds fail beyond this plastic strain [-]
+    plastic_strain_cap: float = 0.3  # element flow stops here, sliding takes over [-]
+    contact_damping: float = 0.2  # normal contact damping ratio zeta [-]
+    damping: float = 1.0  # mass damping alpha [1/s]
+    wedge_at: float = 1.0  # face-top movement at which the wedge is measured (0.1 H) [m]
+    max_time: float = 30.0  # give up after this time [s]
+    rest: float = 1e-4  # kinetic / strain energy ratio taken as rest
+    output_every: int = 1000  # discrete steps between outputs (0: none)
+    progress: bool = True  # progress bar of the discrete runs
+
+
+def main(out: str | Path = "results/retaining_wall_collapse", **overrides) -> dict:
+    """Retaining wall removed: continuum active state, handover, collapse to rest (H3)."""
+    p = Parameters(**overrides)
+    out = Path(out)
+    mesh = build_mesh(load_builder(MESHES / "wall.py"), height=p.height, length=p.length,
+                      front=p.front, size=p.size, cells="quadrilateral")
+    sand = Material("sand", E=p.E, nu=p.nu, unit_weight=p.unit_weight, cohesion=0.0, phi=p.phi,
+                    psi=p.psi, plastic=True, interface_tensile_strength=0.0,
+                    contact_damping=p.contact_damping)
+    ground = Material("ground", E=p.E, nu=p.nu, unit_weight=p.unit_weight,
+                      contact_phi=p.phi, contact_damping=p.contact_damping)
+    # the ground is only a support in the continuum: the backfill base is held (rough; it also
+    # holds the heel node, which the wall's prescribed movement would otherwise drag through
+    # the elastic ground)
+    supports = [Fixed("base"), Roller("right", "x"), Roller("left", "x")]
+
+    def continuum(move: float) -> tuple[PlasticSolver, list[float], list[float]]:
+        model = Model(mesh, {"backfill": sand, "ground": ground},
+                      supports=[Displacement("wall", ux=move), *supports,
+                                Fixed("backfill_base")])
+        solver = PlasticSolver(model, degree=2)
+        solver.apply_gravity(steps=2)
+        thrust = [abs(solver.reaction("wall", 0))]
+        solver.monitors["thrust"] = lambda: abs(solver.reaction("wall", 0))
+        solver.ramp(1.0, p.steps)
+        moves = [0.0] + [r.load_factor * abs(move) for r in solver.history
+                         if "thrust" in r.monitors]
+        thrust += [r.monitors["thrust"] for r in solver.history if "thrust" in r.monitors]
+        return solver, moves, thrust
+
+    # 1. continuum: at rest, active (and passive) translation of the smooth wall
+    solver, moves, thrust = continuum(-p.translation)
+    state = solver.state()
+    ka = math.tan(math.radians(45.0 - p.phi / 2.0)) ** 2
+    half_gh2 = 0.5 * p.unit_weight * p.height**2
+    checks = {"active_thrust": Check(thrust[-1], ka * half_gh2, None, "kN/m",
+                                     "report: Rankine K_a (rough base: below it, see C8)")}
+    summary: dict = {"case": "retaining_wall_collapse (H3)", "out": str(out),
+                     "parameters": asdict(p),
+                     "continuum": {"cells": state.info["cells"],
+                                   "wall_time_s": state.info["wall_time_s"],
+                                   "at_rest_thrust_kN_per_m": thrust[0],
+                                   "active": {"translation_m": moves, "thrust_kN_per_m": thrust}},
+                     "checks": checks}
+    if p.passive_translation > 0.0:
+        _, pm, pt = continuum(p.passive_translation)
+        kp = 1.0 / ka
+        summary["continuum"]["passive"] = {"translation_m": pm, "thrust_kN_per_m": pt}
+        checks["passive_thrust"] = Check(pt[-1], kp * half_gh2, None, "kN/m",
+                                         "report: Rankine K_p")
+    write_continuum_xdmf(out / "continuum.xdmf", state)
+    plot_cell_field(out / "handover_plastic_strain.png", state.model.mesh,
+                    state.cell_plastic_strain(), title="Active state: plastic strain",
+                    label="plastic strain [-]", cmap="magma_r")
+
+    # 2. handover: the backfill may split, the ground is held
+    hand = to_discrete(state, region=Region(group="backfill"))
+    if hand.discrete is None:  # MPI ranks other than 0 stop here
+        return summary
+    disc = hand.discrete
+    summary["handover"] = hand.report
+    backfill = hand.splittable.copy()  # the region is the backfill group
+    disc.fix(np.unique(disc.element_nodes[~backfill]))
+    wall = hand.boundary_nodes["wall"]
+    disc.fixed[wall, 0] = False  # 3. the wall is removed
+    disc.primed = False
+    top = wall[np.argmax(disc.x[wall, 1])]
+    x_top = float(disc.x[top, 0])
+    mass0, n0 = float(disc.mass.sum()), disc.n_elements
+    window = (-p.front, p.length, -1.0, 1.1 * p.height)
+    plot_configuration(out / "discrete_start.png", disc, window=window,
+                       title="Discrete start (active state): plastic strain")
+    # the back of the failed zone as the face top moves: fractions of H, the bar at wedge_at
+    marks = sorted({p.wedge_at, *(f * p.height for f in (0.01, 0.02, 0.05, 0.1, 0.2))})
+    wedge: dict[str, dict] = {}
+
+    def watch(s) -> bool:
+        moved = x_top - s.x[top, 0]
+        while marks and moved >= marks[0]:
+            angle, a = failed_zone_back(s, backfill, p.height, p.size)
+            wedge[f"{marks[0]:g}"] = {"time_s": s.time, "angle_deg": angle, "intercept_m": a}
+            if marks[0] == p.wedge_at:
+                rk = 1.0 / math.tan(math.radians(45.0 + p.phi / 2.0))
+                ck = 1.0 / math.tan(math.radians(angle))
+                lines = {f"back of the failed zone: {angle:.1f} deg": [
+                             [[a, 0.0], [a + p.height * ck, p.height]]],
+                         "45 + phi/2": [[[a, 0.0], [a + p.height * rk, p.height]]]}
+                plot_configuration(out / "wedge.png", s, window=(-5.0, 15.0, -1.0, 11.0),
+                                   lines=lines, reference=True,
+                                   title=f"t = {s.time:.3g} s, face top moved {moved:.2g} m "
+                                         "(reference shape)")
+            marks.pop(0)
+        return False
+
+    opts = dict(damping=p.damping, split_plastic_strain=p.split_plastic_strain,
+                plastic_strain_cap=p.plastic_strain_cap, split_every=10, progress=p.progress,
+                contact_bounds=(-p.front - p.height, -2.0, p.length + 1.0, 2.0 * p.height))
+    res = run(disc, until_rest=p.rest, until_time=p.max_time, rest_min_steps=5000,
+              output_every=p.output_every, out_dir=out / "discrete", on_check=watch,
+              check_every=50, **opts)
+    h = res.history
+    sand_nodes = np.unique(disc.element_nodes[backfill])
+    toe = float(disc.x[sand_nodes, 0].min())
+    angle = wedge.get(f"{p.wedge_at:g}", {}).get("angle_deg", float("nan"))
+    rest_angle, rest_a = failed_zone_back(disc, backfill, p.height, p.size)
+    checks["wedge_angle"] = Check(angle, 45.0 + p.phi / 2.0, 5.0 / (45.0 + p.phi / 2.0), "deg",
+                                  f"45 + phi/2, within 5 deg; face top moved {p.wedge_at:g} m")
+    checks["energy_excess_over_sources"] = Check(
+        energy_excess(h), 0.0, 0.01, "-", "E_kin + E_strain + E_contact <= E(0) + work of gravity")
+    checks["rest_kinetic_ratio"] = Check(
+        float(h["kinetic"][-1] / max(h["kinetic"].max(), h["strain"][-1])), 0.0, p.rest, "-",
+        "at rest: E_kin / max(peak E_kin, E_strain)")
+    checks["elements_conserved"] = Check(float(disc.n_elements), float(n0), 0.0)
+    checks["mass_conserved"] = Check(float(disc.mass.sum()), mass0, 1e-12, "t/m")
+    summary["discrete"] = {
+        "elements": disc.n_elements, "dt_s": res.dt, "steps": res.steps, "time_s": res.time,
+        "stop": res.stop_reason, "wall_time_s": res.wall_time,
+        "element_steps_per_s": res.element_steps_per_s,
+        "wedge_angle_deg": angle, "failed_zone_back_by_face_movement_m": wedge,
+        "failed_zone_back_at_rest": {"angle_deg": rest_angle, "intercept_m": rest_a},
+        "interfaces_failed": int((~disc.interface_intact).sum()),
+        "toe_x_m": toe, "runout_m": -toe,
+        "final_slope_deg": final_slope(disc, sand_nodes, p.height),
+        "energy_peak_over_supply": energy_peak_ratio(h),
+    }
+    write_summary(out / "summary.json", summary)
+    plot_energy(out / "energy.png", h)
+    plot_configuration(out / "final.png", disc, window=window,
+                       title=f"At rest (t = {res.time:.3g} s): run-out {-toe:.3g} m")
+    return summary
+
+
+def failed_zone_back(state, backfill: np.ndarray, height: float, size: float
+                     ) -> tuple[float, float]:
+    """Inclination [deg from the horizontal] and base intercept a [m] of the back of the failed
+    zone: at each level of the backfill (bins of ``size``, reference shape) the failed interface
+    furthest from the wall; least squares line x = a + y cot(angle) through them."""
+    nodes = state.interface_nodes
+    failed = ~state.interface_intact & backfill[state.interface_elements].all(1)
+    mid = state.x_ref[nodes[failed][:, :2]].mean(axis=1)
+    ys, xs = [], []
+    for lo in np.arange(0.0, height, size):
+        pick = (mid[:, 1] >= lo) & (mid[:, 1] < lo + size) & (mid[:, 0] > 0.0)
+        if pick.any():
+            ys.append(lo + 0.5 * size)
+            xs.append(float(mid[pick, 0].max()))
+    if len(ys) < 3:
+        return float("nan"), float("nan")
+    cot, a = np.polyfit(ys, xs, 1)
+    return math.degrees(math.atan2(1.0, cot)), float(a)
+
+
+def final_slope(state, nodes: np.ndarray, height: float) -> float:
+    """Mean angle [deg] of the sand surface between 10 % and 90 % of its final height:
+    the surface as the highest node in 0.5 m columns, fitted with a line."""
+    x, y = state.x[nodes, 0], state.x[nodes, 1]
+    top = y.max()
+    cols = np.floor(x / 0.5)
+    xs, ys = [], []
+    for c in np.unique(cols):
+        k = cols == c
+        yy = y[k].max()
+        if 0.1 * top < yy < 0.9 * top:
+            xs.append(x[k][np.argmax(y[k])])
+            ys.append(yy)
+    if len(xs) < 2:
+        return float("nan")
+    slope = np.polyfit(xs, ys, 1)[0]
+    return math.degrees(math.atan(abs(slope)))
+
+
+if __name__ == "__main__":
+    from hybrid.case import run_case
+
+    raise SystemExit(run_case(main, Parameters))

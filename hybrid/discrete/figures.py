@@ -1,0 +1,73 @@
+"""Figures of a discrete state: the deformed elements coloured by a field, failed interfaces.
+
+Units: m for coordinates; the colour field in its own unit (kPa for stresses, - for strains).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from hybrid.discrete.state import DiscreteState
+
+__all__ = ["plot_configuration", "failed_segments"]
+
+
+def failed_segments(state: DiscreteState, *, reference: bool = False) -> np.ndarray:
+    """(n_failed, 2, 2) end points [m] of the failed interfaces, on element A's side, in the
+    current (or reference) configuration."""
+    failed = np.flatnonzero(~state.interface_intact)
+    xs = state.x_ref if reference else state.x
+    return xs[state.interface_nodes[failed][:, :2]]
+
+
+def plot_configuration(path: str | Path, state: DiscreteState, *, title: str = "",
+                       field: str = "plastic_strain", window: tuple | None = None,
+                       reference: bool = False, dpi: int = 100,
+                       lines: dict[str, np.ndarray] | None = None) -> Path:
+    """PNG of the elements (deformed, or ``reference`` shape) coloured by ``field``
+    ("plastic_strain": Gauss-point mean [-], "sigma_yy": mean vertical stress [kPa]) with the
+    failed interfaces drawn in red. ``window`` = (xmin, xmax, ymin, ymax) [m] crops the view;
+    ``lines`` = {label: segments (n, 2, 2) [m]} are drawn on top (e.g. a fitted slip line)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.collections import LineCollection, PolyCollection
+
+    fields = {"plastic_strain": (state.plastic_strain.mean(axis=1), "plastic strain [-]",
+                                 "magma_r"),
+              "sigma_yy": (state.stress[:, :, 1].mean(axis=1), "sigma_yy [kPa]", "viridis")}
+    if field not in fields:
+        raise ValueError(f"field = {field!r}: choose one of {sorted(fields)}")
+    values, label, cmap = fields[field]
+    xs = state.x_ref if reference else state.x
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig, ax = plt.subplots(figsize=(7.0, 5.0), dpi=dpi)
+    pc = PolyCollection(xs[state.element_nodes], array=values, cmap=cmap, edgecolors="0.5",
+                        linewidths=0.15)
+    ax.add_collection(pc)
+    fig.colorbar(pc, ax=ax, label=label, shrink=0.8)
+    seg = failed_segments(state, reference=reference)
+    if len(seg):
+        ax.add_collection(LineCollection(seg, colors="red", linewidths=1.0,
+                                         label=f"failed interfaces ({len(seg)})"))
+    for i, (name, segs) in enumerate((lines or {}).items()):
+        ax.add_collection(LineCollection(np.asarray(segs, float), colors=f"C{i}", linewidths=2.0,
+                                         label=name))
+    if len(seg) or lines:
+        ax.legend(fontsize=8, loc="lower right")
+    ax.autoscale()
+    if window is not None:
+        ax.set_xlim(window[0], window[1])
+        ax.set_ylim(window[2], window[3])
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_title(title or f"t = {state.time:.4g} s")
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+    return path

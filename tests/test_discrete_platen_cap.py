@@ -1,0 +1,97 @@
+"""Rigid platens (``DiscreteState.tie_rigidly``) and the plastic-strain cap of the element
+kernel (``run(plastic_strain_cap=...)``), both added for the hybrid footing failure (H2)."""
+
+import numpy as np
+import pytest
+
+from hybrid.discrete import DiscreteMaterial, DiscreteState, integrate, rectangle, ties
+from hybrid.discrete.run import run
+from hybrid.materials import Material, MaterialError
+
+
+def _block(nx=4, ny=3, **kw):
+    mat = DiscreteMaterial(E=1.0e4, nu=0.3, density=2.0, interface_cohesion=0.0,
+                           interface_tensile_strength=0.0, **kw)
+    return rectangle(2.0, 1.5, nx, ny, material=mat, gravity=(0.0, -9.81))
+
+
+def test_tie_rigidly_keeps_momentum_and_survives_splitting():
+    """The platen's nodes get the mass-weighted mean velocity (momentum unchanged, to
+    rounding) and stay one tie group, with one velocity, after every interface has failed."""
+    st = _block()
+    top = np.flatnonzero(np.isclose(st.x_ref[:, 1], 1.5))
+    rng = np.random.default_rng(1)
+    st.v[:] = rng.normal(size=st.v.shape)
+    # ties: members of a group share a velocity (as the engine keeps them)
+    for g in range(st.n_groups):
+        members = st.group_nodes[st.group_ptr[g]:st.group_ptr[g + 1]]
+        st.v[members] = st.v[members[0]]
+    p0 = (st.mass[:, None] * st.v).sum(axis=0)
+    st.tie_rigidly(top)
+    np.testing.assert_allclose((st.mass[:, None] * st.v).sum(axis=0), p0, rtol=1e-12)
+    assert len(np.unique(st.node_group[top])) == 1
+    np.testing.assert_array_equal(st.v[top], np.broadcast_to(st.v[top[0]], st.v[top].shape))
+    n_before = st.n_groups
+    ties.split_interfaces(st, np.ones(st.interface_intact.size, dtype=bool))
+    assert len(np.unique(st.node_group[top])) == 1  # the platen is still one group
+    assert st.n_groups > n_before  # everything else came apart
+    # it moves as one: every platen node has the same velocity after a short run
+    st.v[:] = 0.0
+    run(st, max_steps=50, contact=False, progress=False)
+    np.testing.assert_array_equal(st.v[top], np.broadcast_to(st.v[top[0]], st.v[top].shape))
+
+
+def test_tie_rigidly_in_checkpoints(tmp_path):
+    """The platen links are part of the checkpoint: a restart keeps the platen together."""
+    st = _block()
+    top = np.flatnonzero(np.isclose(st.x_ref[:, 1], 1.5))
+    st.tie_rigidly(top)
+    back = DiscreteState.load(st.save(tmp_path / "c.npz"))
+    np.testing.assert_array_equal(back.rigid_links, st.rigid_links)
+    ties.split_interfaces(back, np.ones(back.interface_intact.size, dtype=bool))
+    assert len(np.unique(back.node_group[top])) == 1
+    with pytest.raises(ValueError, match="out of range"):
+        st.tie_rigidly([0, st.n_nodes])
+
+
+def _sheared(cap):
+    """A Tresca block (c = 10 kPa) sheared by its top at constant speed: (plastic strain,
+    max |sigma_xy|) after a shear strain of 4 %, 20 times the yield strain."""
+    c = 10.0
+    mat = DiscreteMaterial(E=1.0e4, nu=0.3, density=1.0, plastic=True, cohesion=c)
+    st = rectangle(1.0, 1.0, 2, 2, material=mat, gravity=(0.0, 0.0))
+    st.fix(np.isclose(st.x_ref[:, 1], 0.0))
+    st.fix(np.isclose(st.x_ref[:, 1], 1.0), velocity=(1e-3, 0.0))
+    dt = 0.5 * integrate.stable_time_step(st)
+    for _ in range(int(0.04 / 1e-3 / dt)):
+        integrate.step(st, dt, local_damping=0.7, plastic_cap=cap)
+    return st.plastic_strain.copy(), float(np.max(np.abs(st.stress[..., 3])))
+
+
+def test_plastic_cap_stops_flow():
+    """Without a cap the block flows (Tresca: tau <= c everywhere, plastic strain beyond 2 %);
+    with a cap of 1 % no Gauss point goes more than one step's increment past the cap, and the
+    shear stress then rises elastically well above c."""
+    eps_free, tau_free = _sheared(np.inf)
+    eps_cap, tau_cap = _sheared(0.01)
+    assert eps_free.max() > 0.02  # flowing freely
+    assert tau_free <= 10.0 * (1.0 + 1e-9)
+    assert eps_cap.max() >= 0.01 and eps_cap.max() < 0.0101
+    assert tau_cap > 2.0 * 10.0
+
+
+def test_run_rejects_bad_cap():
+    st = _block()
+    with pytest.raises(ValueError, match="plastic_strain_cap"):
+        run(st, max_steps=1, plastic_strain_cap=0.0, progress=False)
+
+
+def test_material_contact_damping():
+    """Material.contact_damping reaches the discrete contact table; out of [0, 1] is refused
+    with the parameter named."""
+    from hybrid.discrete.state import material_rows
+
+    m = Material("sand", E=7e4, nu=0.3, unit_weight=18.0, phi=30.0, contact_damping=0.2)
+    assert material_rows([m], 0.5)[4][0, 3] == 0.2
+    with pytest.raises(MaterialError, match="contact_damping"):
+        Material("sand", E=7e4, nu=0.3, unit_weight=18.0, phi=30.0, contact_damping=1.5)
