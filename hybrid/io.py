@@ -179,7 +179,7 @@ def plot_cell_field(path: str | Path, mesh_data: Any, values: np.ndarray, *, tit
     fig, ax = plt.subplots(figsize=(8, 6), dpi=120)
     coll = PolyCollection(polys, array=vals, cmap=cmap, edgecolors="face", linewidths=0.2)
     if symmetric:
-        vmax = float(np.max(np.abs(vals))) or 1.0
+        vmax = float(np.nanmax(np.abs(vals), initial=0.0)) or 1.0  # NaN: cell left blank
         coll.set_clim(-vmax, vmax)
     ax.add_collection(coll)
     ax.autoscale_view()

@@ -383,7 +383,12 @@ class PlasticSolver:
     def activate(self, groups: Sequence[str], steps: int = 1) -> Analysis:
         """Place the named cell groups (in addition to the active ones) and bring the structure
         to equilibrium under their weight, ramped in ``steps`` increments (staged construction,
-        thesis 6.3.1). Returns whether equilibrium was reached.
+        thesis 6.3.1).
+
+        A failing increment is cut in half, down to ``min_increment`` x the first (as in
+        :meth:`ramp`). Returns whether the full weight was reached; if not, the new cells keep
+        the last fraction of their weight with equilibrium (``Analysis.factor``): the
+        structure collapses while this lift is placed.
         """
         if self.gravity_factor == 0.0:  # placed material comes with its weight
             self.gravity_factor = 1.0
@@ -395,14 +400,29 @@ class PlasticSolver:
         newly = self.active & ~before
         n = self.sspace.num_cells
         dofs0 = self._active_fn.function_space.dofmap.list.array[:n]
-        for k in range(1, steps + 1):
+
+        def weigh(fraction: float) -> None:
             weight = self.active.astype(float)
-            weight[newly] = k / steps
+            weight[newly] = fraction
             self._active_fn.x.array[dofs0] = weight
             self._active_fn.x.scatter_forward()
+
+        size = 1.0 / steps
+        smallest = size * self.options.min_increment
+        placed, cuts = 0.0, 0
+        while placed < 1.0 - 1e-12:
+            trial = min(placed + size, 1.0)
+            weigh(trial)
             if self.step() is None:
-                return Analysis(False, (k - 1) / steps, 0)
-        return Analysis(True, 1.0, 0)
+                cuts += 1
+                size *= 0.5
+                if size < smallest:
+                    weigh(placed)
+                    log.info("collapse: no equilibrium beyond %.4g of the lift's weight", placed)
+                    return Analysis(False, placed, cuts)
+                continue
+            placed = trial
+        return Analysis(True, 1.0, cuts)
 
     def set_strength_factor(self, factor: float) -> None:
         """Divide c and tan(phi), tan(psi) of every plastic material by ``factor``."""
