@@ -693,53 +693,37 @@ def _contact_kernel(
                     f_split[p, 1] = fd * ny
                     f_split[p, 2] = shear[p, 0]
                     f_split[p, 3] = shear[p, 1]
-    # scatter to the nodes. Elements own their nodes, so each element gathers the forces of
-    # its own pairs (prange, no write conflicts); its pairs are listed in ascending pair
-    # order, the order in which a serial loop over the pairs adds them: the same sums, bit
-    # for bit, whatever the number of threads.
     n_active = 0
     diss_f = 0.0
     diss_d = 0.0
-    ptr = np.zeros(n_el + 1, dtype=np.int64)
     for p in range(n_pairs):
-        if active[p] != 0:
-            n_active += 1
-            diss_f += diss[p, 0]
-            diss_d += diss[p, 1]
-            ptr[pairs[p, 0] + 1] += 1
-            ptr[pairs[p, 1] + 1] += 1
-    for e in range(n_el):
-        ptr[e + 1] += ptr[e]
-    fill = ptr[:-1].copy()
-    entries = np.empty(ptr[n_el], dtype=np.int64)  # 2 p + side (0: element a, 1: element b)
-    for p in range(n_pairs):
-        if active[p] != 0:
-            a = pairs[p, 0]
-            b = pairs[p, 1]
-            entries[fill[a]] = 2 * p
-            fill[a] += 1
-            entries[fill[b]] = 2 * p + 1
-            fill[b] += 1
-    for e in prange(n_el):
-        for q in range(ptr[e], ptr[e + 1]):
-            p = entries[q] >> 1
-            side_b = (entries[q] & 1) == 1
-            w = w_b if side_b else w_a
-            sign = 1.0 if side_b else -1.0
-            fx = f_pair[p, 0]
-            fy = f_pair[p, 1]
-            for k in range(nen):
-                n_ = element_nodes[e, k]
-                force[n_, 0] += sign * (w[p, k] * fx)
-                force[n_, 1] += sign * (w[p, k] * fy)
-            if with_split:
-                for c in range(2):
-                    dx = f_split[p, 2 * c]
-                    dy = f_split[p, 2 * c + 1]
-                    for k in range(nen):
-                        n_ = element_nodes[e, k]
-                        split_force[c, n_, 0] += sign * (w[p, k] * dx)
-                        split_force[c, n_, 1] += sign * (w[p, k] * dy)
+        if active[p] == 0:
+            continue
+        n_active += 1
+        diss_f += diss[p, 0]
+        diss_d += diss[p, 1]
+        a = pairs[p, 0]
+        b = pairs[p, 1]
+        fx = f_pair[p, 0]
+        fy = f_pair[p, 1]
+        for k in range(nen):
+            na_ = element_nodes[a, k]
+            nb_ = element_nodes[b, k]
+            force[na_, 0] -= w_a[p, k] * fx
+            force[na_, 1] -= w_a[p, k] * fy
+            force[nb_, 0] += w_b[p, k] * fx
+            force[nb_, 1] += w_b[p, k] * fy
+        if with_split:
+            for c in range(2):
+                dx = f_split[p, 2 * c]
+                dy = f_split[p, 2 * c + 1]
+                for k in range(nen):
+                    na_ = element_nodes[a, k]
+                    nb_ = element_nodes[b, k]
+                    split_force[c, na_, 0] -= w_a[p, k] * dx
+                    split_force[c, na_, 1] -= w_a[p, k] * dy
+                    split_force[c, nb_, 0] += w_b[p, k] * dx
+                    split_force[c, nb_, 1] += w_b[p, k] * dy
     return n_active, diss_f, diss_d
 
 
