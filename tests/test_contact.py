@@ -128,7 +128,7 @@ def test_normal_is_area_gradient_random_pairs():
     # eps = 1e-6 is exact up to round-off ~1e-16/eps = 1e-10: tolerance 1e-6 relative.
     # Also G(A,B) = -G(B,A) and area(A,B) = area(B,A) (round-off: 1e-12).
     rng = np.random.default_rng(7)
-    work = np.empty((4, contact._MAXV, 2))
+    work = np.empty((4, contact._MAXV, 3))
     eps = 1e-6
     checked = 0
     for _ in range(200):

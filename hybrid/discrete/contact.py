@@ -13,7 +13,9 @@ Narrow phase (one element pair A-B, both polygons counter-clockwise):
 * overlap area ``A`` and centroid ``c`` by the shoelace formula;
 * contact normal: the gradient of the overlap area under a translation of B relative to A,
   ``G = sum over A's edges of n_edge * (length of the edge inside B)`` (outward unit normals
-  of A).  ``|G|`` is the contact (chord) length ``L_c`` and ``n = G / |G|`` points from A to B.
+  of A), summed over the outline edges of the clipped polygon that lie on A's boundary (the
+  clipping labels them).  ``|G|`` is the contact (chord) length ``L_c`` and ``n = G / |G|``
+  points from A to B.
   With two boundary intersection points ``G`` is exactly the normal of the chord joining them
   times its length (the thesis's appendix C case analysis reduces to this vector geometry).
   When ``G`` vanishes (one element wholly inside the other) the normal falls back to the
@@ -140,36 +142,47 @@ def _load_piece(poly, n, reflex, piece, out):
 
 
 @njit(cache=True)
-def _clip_pass(src, n, dst, ax, ay, ex, ey):
+def _clip_pass(src, n, first, dst, ax, ay, ex, ey, j):
     """One Sutherland-Hodgman pass: keep the part of ``src[:n]`` left of the edge through
-    (ax, ay) with direction (ex, ey); write it to ``dst``, return its vertex count."""
+    (ax, ay) with direction (ex, ey); write it to ``dst``, return its vertex count.
+
+    Column 2 labels the edge leaving each vertex: -1 on the subject polygon's boundary, k on
+    the clip polygon's edge k (``first``: ``src`` is the subject itself, every label -1); an
+    edge keeps its label when clipped, and the stretch along the clip line gets ``j``."""
     m = 0
     px = src[n - 1, 0]
     py = src[n - 1, 1]
+    pl = -1.0 if first else src[n - 1, 2]
     dp = ex * (py - ay) - ey * (px - ax)  # >= 0: left of the clip edge (inside)
     for i in range(n):
         qx = src[i, 0]
         qy = src[i, 1]
+        ql = -1.0 if first else src[i, 2]
         dq = ex * (qy - ay) - ey * (qx - ax)
         if dp >= 0.0:
-            if dq < 0.0:
+            if dq < 0.0:  # leaving: the outline runs on along the clip line
                 t = dp / (dp - dq)
                 dst[m, 0] = px + t * (qx - px)
                 dst[m, 1] = py + t * (qy - py)
+                dst[m, 2] = j
                 m += 1
             else:
                 dst[m, 0] = qx
                 dst[m, 1] = qy
+                dst[m, 2] = ql
                 m += 1
-        elif dq >= 0.0:
+        elif dq >= 0.0:  # entering: the rest of the edge p -> q
             t = dp / (dp - dq)
             dst[m, 0] = px + t * (qx - px)
             dst[m, 1] = py + t * (qy - py)
+            dst[m, 2] = pl
             dst[m + 1, 0] = qx
             dst[m + 1, 1] = qy
+            dst[m + 1, 2] = ql
             m += 2
         px = qx
         py = qy
+        pl = ql
         dp = dq
     return m
 
@@ -178,10 +191,11 @@ def _clip_pass(src, n, dst, ax, ay, ex, ey):
 def _clip_convex(sub, ns, clip, nc, out, tmp):
     """Sutherland-Hodgman clipping of convex ``sub[:ns]`` by convex ``clip[:nc]`` (both ccw).
 
-    The result goes to ``out`` (``tmp`` is scratch, both of shape (_MAXV, 2); the two are
+    The result goes to ``out`` (``tmp`` is scratch, both of shape (_MAXV, 3); the two are
     used in turn as source and destination, so that the last pass ends in ``out``; explicit
     branches rather than array variables: no reference counting in the hot loop); returns
-    the number of vertices of the overlap polygon (0 when they do not overlap).
+    the number of vertices of the overlap polygon (0 when they do not overlap). Column 2 of
+    ``out`` labels each outline edge (see ``_clip_pass``).
     """
     n = ns
     for j in range(nc):
@@ -192,16 +206,32 @@ def _clip_convex(sub, ns, clip, nc, out, tmp):
         ey = clip[j1, 1] - ay
         if j == 0:
             if (nc - 1) % 2 == 0:
-                n = _clip_pass(sub, n, out, ax, ay, ex, ey)
+                n = _clip_pass(sub, n, True, out, ax, ay, ex, ey, j)
             else:
-                n = _clip_pass(sub, n, tmp, ax, ay, ex, ey)
+                n = _clip_pass(sub, n, True, tmp, ax, ay, ex, ey, j)
         elif (nc - j) % 2 == 0:
-            n = _clip_pass(out, n, tmp, ax, ay, ex, ey)
+            n = _clip_pass(out, n, False, tmp, ax, ay, ex, ey, j)
         else:
-            n = _clip_pass(tmp, n, out, ax, ay, ex, ey)
+            n = _clip_pass(tmp, n, False, out, ax, ay, ex, ey, j)
         if n == 0:
             return 0
     return n
+
+
+@njit(cache=True)
+def _subject_normal(poly, n):
+    """Sum of (outward normal x length) over the outline edges of the clipped polygon
+    ``poly[:n]`` that lie on the subject's boundary (label -1): the subject's edge lengths
+    inside the clip polygon along their outward normals, i.e. minus the gradient of the
+    overlap area under a translation of the clip polygon."""
+    gx = 0.0
+    gy = 0.0
+    for i in range(n):
+        if poly[i, 2] < 0.0:
+            i1 = i + 1 if i + 1 < n else 0
+            gx += poly[i1, 1] - poly[i, 1]  # outward normal of a ccw edge (dy, -dx)
+            gy -= poly[i1, 0] - poly[i, 0]
+    return gx, gy
 
 
 @njit(cache=True)
@@ -229,57 +259,10 @@ def _area_centroid(poly, n):
 
 
 @njit(cache=True)
-def _inside_normal(pa, na, pb, nb):
-    """Sum over the edges of convex ``pa`` of (outward normal x length inside convex ``pb``).
-
-    Cyrus-Beck clipping of each edge against ``pb``'s half-planes.  This is minus the
-    gradient of area(pa & pb) with respect to a translation of ``pb``.
-    """
-    gx = 0.0
-    gy = 0.0
-    p0x = pa[na - 1, 0]
-    p0y = pa[na - 1, 1]
-    for i in range(na):
-        dx = pa[i, 0] - p0x
-        dy = pa[i, 1] - p0y
-        t0 = 0.0
-        t1 = 1.0
-        q0x = pb[nb - 1, 0]
-        q0y = pb[nb - 1, 1]
-        for j in range(nb):
-            ex = pb[j, 0] - q0x
-            ey = pb[j, 1] - q0y
-            f0 = ex * (p0y - q0y) - ey * (p0x - q0x)  # inside when f(t) = f0 + t df >= 0
-            df = ex * dy - ey * dx
-            q0x = pb[j, 0]
-            q0y = pb[j, 1]
-            if df == 0.0:
-                if f0 < 0.0:
-                    t1 = -1.0
-            elif df > 0.0:
-                tc = -f0 / df
-                if tc > t0:
-                    t0 = tc
-            else:
-                tc = -f0 / df
-                if tc < t1:
-                    t1 = tc
-            if t0 >= t1:
-                break
-        p0x = pa[i, 0]
-        p0y = pa[i, 1]
-        if t1 > t0:
-            s = t1 - t0
-            gx += dy * s  # outward normal of a ccw edge (dy, -dx) / L, times L s
-            gy -= dx * s
-    return gx, gy
-
-
-@njit(cache=True)
 def _overlap_geometry(pa, na, pb, nb, work):
     """Overlap of polygons A = ``pa[:na]`` and B = ``pb[:nb]`` (ccw, 3 or 4 vertices).
 
-    ``work`` is scratch of shape (4, _MAXV, 2).  Returns ``(area, cx, cy, gx, gy)``: overlap
+    ``work`` is scratch of shape (4, _MAXV, 3).  Returns ``(area, cx, cy, gx, gy)``: overlap
     area, its centroid and the unnormalised normal ``G`` (A's outward edge normals weighted
     by their lengths inside B; points from A to B, ``|G|`` = contact length).  Non-convex
     quads are split into two triangles and the sub-pair results summed (internal diagonals
@@ -313,7 +296,7 @@ def _overlap_geometry(pa, na, pb, nb, work):
 @njit(cache=True)
 def _overlap_pieces(pa, na, ra, pb, nb, rb, piece_a, piece_b, out, tmp):
     """``_overlap_geometry`` without the box test, the reflex vertices ``ra``/``rb`` given;
-    four scratch arrays (_MAXV, 2) passed separately (no array views in the hot loop: each
+    four scratch arrays (_MAXV, 3) passed separately (no array views in the hot loop: each
     view costs numba an atomic reference count)."""
     if ra < 0 and rb < 0:  # both convex (the common case): no copies into the pieces
         m = _clip_convex(pa, na, pb, nb, out, tmp)
@@ -322,7 +305,7 @@ def _overlap_pieces(pa, na, ra, pb, nb, rb, piece_a, piece_b, out, tmp):
         a, cx, cy = _area_centroid(out, m)
         if a <= 0.0:
             return 0.0, 0.0, 0.0, 0.0, 0.0
-        gx, gy = _inside_normal(pa, na, pb, nb)
+        gx, gy = _subject_normal(out, m)
         return a, (a * cx) / a, (a * cy) / a, gx, gy  # the general path's sums, same rounding
     npa = 1 if ra < 0 else 2
     npb = 1 if rb < 0 else 2
@@ -344,7 +327,7 @@ def _overlap_pieces(pa, na, ra, pb, nb, rb, piece_a, piece_b, out, tmp):
             area += a
             sx += a * cx
             sy += a * cy
-            g1, g2 = _inside_normal(piece_a, ka, piece_b, kb)
+            g1, g2 = _subject_normal(out, m)
             gx += g1
             gy += g2
     if area <= 0.0:
@@ -645,10 +628,10 @@ def _contact_kernel(
     for item in prange(n_items):
         pa = np.empty((4, 2))
         pb = np.empty((4, 2))
-        piece_a = np.empty((_MAXV, 2))
-        piece_b = np.empty((_MAXV, 2))
-        out = np.empty((_MAXV, 2))
-        tmp = np.empty((_MAXV, 2))
+        piece_a = np.empty((_MAXV, 3))
+        piece_b = np.empty((_MAXV, 3))
+        out = np.empty((_MAXV, 3))
+        tmp = np.empty((_MAXV, 3))
         for blk in range(item, n_blocks, n_items):
             start = blk * _CHUNK
             stop = min(n_pairs, start + _CHUNK)
@@ -800,7 +783,7 @@ def _contact_energy(x, element_nodes, element_material, contact_table, pairs, sh
     nen = element_nodes.shape[1]
     pa = np.empty((4, 2))
     pb = np.empty((4, 2))
-    work = np.empty((4, _MAXV, 2))
+    work = np.empty((4, _MAXV, 3))
     u_n = 0.0
     u_t = 0.0
     for p in range(pairs.shape[0]):
@@ -1241,7 +1224,7 @@ def overlap(poly_a: np.ndarray, poly_b: np.ndarray) -> tuple[float, np.ndarray, 
     for p in (pa, pb):
         if _area_centroid(p, p.shape[0])[0] < 0.0:
             p[:] = p[::-1].copy()  # make it counter-clockwise
-    work = np.empty((4, _MAXV, 2))
+    work = np.empty((4, _MAXV, 3))
     area, cx, cy, gx, gy = _overlap_geometry(pa, pa.shape[0], pb, pb.shape[0], work)
     g = np.hypot(gx, gy)
     normal = np.array([gx / g, gy / g]) if g > 0.0 else np.zeros(2)
