@@ -121,6 +121,7 @@ def _gather(state: Any) -> dict[str, Any] | None:
         "qp": qp, "cells": gid[cells], "original": original, "x": xu, "x0": x.copy(), "gid": gid,
         "material": state.model.material_ids(), "stress": state.stress,
         "plastic": state.plastic_strain, "yielded": state.yielded, "facets": facets,
+        "active": np.ones(n, dtype=bool) if state.active is None else state.active,
     }
     parts = state.comm.gather(local, root=0)
     if state.comm.rank != 0:
@@ -132,10 +133,23 @@ def _gather(state: Any) -> dict[str, Any] | None:
         coords[p["gid"]] = p["x"]
         coords0[p["gid"]] = p["x0"]
     cat = {k: np.concatenate([p[k] for p in parts])[order]
-           for k in ("cells", "original", "material", "stress", "plastic", "yielded", "qp")}
+           for k in ("cells", "original", "material", "stress", "plastic", "yielded", "qp",
+                     "active")}
     cat["x"], cat["x0"] = coords, coords0
     cat["facets"] = sorted(f for p in parts for f in p["facets"])
-    return cat
+    return _placed_only(cat)
+
+
+def _placed_only(data: dict[str, Any]) -> dict[str, Any]:
+    """Drop the cells that staged construction has not placed yet (and their facets)."""
+    keep = data["active"]
+    if keep.all():
+        return data
+    out = {k: v[keep] for k, v in data.items() if k not in ("x", "x0", "facets")}
+    placed = set(data["original"][keep].tolist())
+    out.update(x=data["x"], x0=data["x0"],
+               facets=[f for f in data["facets"] if f[3] in placed])
+    return out
 
 
 def _vertex_to_geometry(msh: Any) -> np.ndarray:
@@ -210,7 +224,10 @@ def _match_points(disc: Any, qp: np.ndarray) -> np.ndarray:
 
 def to_discrete(state: Any, *, region: Region | None = None,
                 freeze_layers: int | None = None, gravity: bool | None = None) -> Handover:
-    """Build the discrete start from a converged :class:`~hybrid.continuum.ContinuumState`."""
+    """Build the discrete start from a converged :class:`~hybrid.continuum.ContinuumState`.
+
+    Only the cells in place are handed over (staged construction: ``state.active``); a lift
+    the continuum placed with part of its weight gets all of it in the discrete phase."""
     from hybrid.discrete.state import check_elements, from_mesh
 
     region = region or Region()

@@ -476,7 +476,7 @@ class PlasticSolver:
                 "gravity_factor": self.gravity_factor}
         return ContinuumState(self.model, self.disc, u, self.stress.reshape(n, nqp, 4).copy(),
                               self.plastic_strain.reshape(n, nqp).copy(),
-                              self.yielded.reshape(n, nqp).copy(), info)
+                              self.yielded.reshape(n, nqp).copy(), info, self.active.copy())
 
 
 @dataclass

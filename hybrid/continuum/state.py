@@ -31,6 +31,7 @@ class ContinuumState:
         yielded: 1 where the point is on the yield surface at the last step (n_owned_cells, nqp).
         velocity: nodal velocities for a dynamic start (zero after a static solve) [m/s].
         info: solver figures (iterations, load factors, timings).
+        active: (n_owned_cells,) True for cells in place (staged construction); None: all.
     """
 
     model: Model
@@ -40,6 +41,7 @@ class ContinuumState:
     plastic_strain: np.ndarray
     yielded: np.ndarray
     info: dict[str, Any] = field(default_factory=dict)
+    active: np.ndarray | None = None
 
     @property
     def mesh(self) -> Any:

@@ -110,13 +110,21 @@ def _group_update(group_ptr, group_nodes, group_mass, internal_force, contact_fo
 
 @numba.njit(cache=True)
 def _critical_dt(x, element_nodes, element_material, material_table, density, contact_table,
-                 mass, with_contact):
+                 mass, with_contact, fixed):
     """min over elements of L_min / c_p, L_min = A / longest edge (Q4), 2A / longest edge
-    (T3), c_p = sqrt((K + 4G/3) / rho); with contact also sqrt(m_e / (k_n L_max))."""
+    (T3), c_p = sqrt((K + 4G/3) / rho); with contact also sqrt(m_e / (k_n L_max)). Elements
+    whose nodes are all held (frozen) do not move and are skipped (a pair's k_n is the smaller
+    of the two, so the moving element's own contact bound covers its contacts with them)."""
     ne = element_nodes.shape[0]
     nen = element_nodes.shape[1]
     best = np.inf
     for e in range(ne):
+        held = True
+        for a in range(nen):
+            i = element_nodes[e, a]
+            held = held and fixed[i, 0] and fixed[i, 1]
+        if held:
+            continue
         area = 0.0
         lmax = 0.0
         me = 0.0
@@ -144,13 +152,17 @@ def stable_time_step(state: DiscreteState, *, contact: bool | None = None) -> fl
     Flanagan-Belytschko estimate 2 / omega_max. Contact (when ``contact`` is True, or None and
     the state has rigid bodies or several bodies): sqrt(m_e / (k_n L_e)), i.e. 2 sqrt(m/k)
     with a quarter of the element mass on a node and the normal stiffness k_n L_e of an
-    overlap along one edge. No safety factor is applied here.
+    overlap along one edge. Frozen elements (every node held) are left out. No safety factor
+    is applied here.
     """
     if contact is None:
         contact = state.contact_pairs.shape[0] > 0
-    return float(_critical_dt(state.x, state.element_nodes, state.element_material,
-                              state.material_table, state.density, state.contact_table,
-                              state.mass, bool(contact)))
+    args = (state.x, state.element_nodes, state.element_material, state.material_table,
+            state.density, state.contact_table, state.mass, bool(contact))
+    dt = float(_critical_dt(*args, state.fixed))
+    if not math.isfinite(dt):  # everything held: the bound of the elements themselves
+        dt = float(_critical_dt(*args, np.zeros_like(state.fixed)))
+    return dt
 
 
 def check_dt(state: DiscreteState, dt: float, *, contact: bool | None = None) -> float:

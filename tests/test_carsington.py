@@ -1,0 +1,131 @@
+"""Carsington Dam, Ch. 725 (issue 6), continuum phase: section, lifts, construction, F."""
+
+import json
+
+import meshio
+import numpy as np
+import pytest
+
+from hybrid.geometry import build_mesh
+
+GROUPS = {"foundation", "yellow_clay", "core", "zone_I", "zone_II", "berm"}
+BOUNDARIES = {"base", "left", "right", "crest", "surface"}
+
+
+def _shoelace(points) -> float:
+    p = np.asarray(points, dtype=float)
+    return 0.5 * abs(np.sum(p[:, 0] * np.roll(p[:, 1], -1) - np.roll(p[:, 0], -1) * p[:, 1]))
+
+
+def _group_area(mesh, name: str) -> float:
+    x, cells = mesh.cell_vertices()
+    return sum(_shoelace(x[c]) for c in cells[mesh.cells(name)])
+
+
+def test_section_groups_areas_and_lifts(case):
+    cars = case("carsington")
+    sm = cars.section_module()
+    section = sm.Section()
+    mesh = build_mesh(sm.build, size=15.0)
+    assert mesh.cell_type == "quadrilateral"
+    assert set(mesh.cell_groups) == GROUPS
+    assert BOUNDARIES <= set(mesh.facet_groups)
+    # the regions are exact polygons: the core (with its boot in the key trench) and the
+    # yellow clay (a layer of constant vertical thickness) have their outline's area
+    assert _group_area(mesh, "core") == pytest.approx(_shoelace(section.core_outline()),
+                                                      rel=1e-9)
+    layer_length = section.yellow_clay_beyond_toe - section.berm_toe - section.boot_length
+    assert _group_area(mesh, "yellow_clay") == pytest.approx(
+        section.yellow_clay_thickness * layer_length, rel=1e-9)
+    # the key trench: the core reaches trench_depth below the foundation level
+    x, cells = mesh.cell_vertices()
+    core_y = x[cells[mesh.cells("core")], 1]
+    assert core_y.min() == pytest.approx(section.foundation_level - section.trench_depth)
+    assert core_y.max() == pytest.approx(section.crest_level)
+
+    tops = sm.lift_tops(section.crest_level, section.berm_top, section.lifts)
+    assert len(tops) == 6 and tops[0] == section.berm_top and tops[-1] == section.crest_level
+    assert sm.lift_tops(lifts=1) == [section.crest_level]
+    staged = cars.staged_mesh(mesh, tops)
+    assert sum(len(staged.cells(g)) for g in staged.cell_groups) == mesh.num_owned_cells
+    bottom = section.foundation_level - section.trench_depth
+    for k, top in enumerate(tops, start=1):
+        groups = cars.lift_groups(staged, k)
+        assert {f"core:{k}", f"zone_I:{k}", f"zone_II:{k}"} <= set(groups)
+        assert ("berm:1" in groups) == (k == 1)  # the berm is complete in the first lift
+        # no cell straddles a lift top
+        y = x[cells[np.concatenate([staged.cells(g) for g in groups])], 1]
+        assert y.min() >= bottom - 1e-9 and y.max() <= top + 1e-9
+        bottom = top
+
+
+def test_thesis_sized_mesh(builder):
+    """The default size gives about the thesis's 1 000 elements, all quadrilaterals."""
+    mesh = build_mesh(builder("carsington"))
+    assert mesh.cell_type == "quadrilateral"
+    assert 800 <= mesh.comm.allreduce(mesh.num_owned_cells) <= 1300
+
+
+def _check_run(summary: dict, tolerance: float) -> None:
+    checks = summary["checks"]
+    for key in ("far_field_sigma_v", "far_field_sigma_h", "max_stress_in_unplaced_lifts"):
+        assert checks[key].passed, key
+    stages = summary["construction"]["stages"]
+    # every lift but possibly the last reaches equilibrium; a failing lift is the collapse
+    assert all(st["completed"] for st in stages[:-1])
+    assert stages[0]["completed"]
+    if not summary["construction"]["completed"]:
+        last = stages[-1]
+        bottom = stages[-2]["top_m_OD"] if len(stages) > 1 else 164.5
+        assert bottom <= last["fill_level_m_OD"] < last["top_m_OD"]
+        assert 0.0 <= last["weight_placed"] < 1.0
+    # F after each complete lift: finite, above 1 (it stood), falling as the dam rises
+    fos = [st["factor_of_safety"] for st in stages if "factor_of_safety" in st]
+    assert fos and all(np.isfinite(fos)) and fos[0] > 1.0
+    assert all(b <= a + tolerance for a, b in zip(fos, fos[1:]))
+    assert summary["factor_of_safety"]["F"] == fos[-1]
+
+
+def test_carsington_smoke(case, tmp_path):
+    """Coarse mesh: gravity, the lifts (to the crest or to collapse), F after each lift, then
+    a few hundred steps of the discrete phase (elements and mass kept, energy bounded, the
+    time series opens in meshio)."""
+    tolerance = 0.05
+    summary = case("carsington").main(out=tmp_path, size=15.0, layer_size=3.0,
+                                      min_increment=0.05, fos_step=0.2,
+                                      fos_tolerance=tolerance, discrete_time=0.4, frames=2,
+                                      progress=False)
+    _check_run(summary, tolerance)
+    d = summary["discrete"]
+    assert d["elements"] == summary["handover"]["elements"] > 0
+    for name in ("elements_conserved", "mass_conserved", "energy_excess_over_sources"):
+        assert summary["checks"][name].passed, name
+    series = meshio.xdmf.TimeSeriesReader(tmp_path / "discrete" / "discrete.xdmf")
+    points, cells = series.read_points_cells()
+    assert cells[0].data.shape[0] == d["elements"]
+    saved = json.loads((tmp_path / "summary.json").read_text())
+    assert saved["mesh"]["cells"] == summary["mesh"]["cells"]
+    written = meshio.read(tmp_path / "continuum.xdmf")
+    assert sum(len(c.data) for c in written.cells) == summary["mesh"]["cells"]
+    for name in ("end_of_construction_sigma_yy.png", "end_of_construction_yielded.png",
+                 "end_of_construction_displacement_vectors.png",
+                 "end_of_construction_core_profiles.png", "fos_mechanism.png"):
+        assert (tmp_path / name).is_file(), name
+
+
+@pytest.mark.slow
+def test_carsington_thesis_mesh(case, tmp_path):
+    """The ~1 000-cell run of docs/carsington.md (Table 6.3 strengths)."""
+    tolerance = 0.01
+    summary = case("carsington").main(out=tmp_path, fos_tolerance=tolerance, progress=False)
+    assert 800 <= summary["mesh"]["cells"] <= 1300
+    _check_run(summary, tolerance)
+    # issue 6 bars of the discrete phase: at rest, the slip surface (failed interfaces that
+    # slipped >= 0.1 m) through the yellow clay and the core's boot, the shoulder upstream
+    d = summary["discrete"]
+    assert d["stop"] == "rest"
+    for name in ("slip_surface_through_yellow_clay", "slip_surface_through_boot",
+                 "shoulder_moves_upstream", "energy_excess_over_sources",
+                 "elements_conserved", "mass_conserved"):
+        assert summary["checks"][name].passed, name
+    assert d["phase_wall_time_s"] + summary["continuum_wall_time_s"] < 15 * 60
