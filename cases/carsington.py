@@ -462,6 +462,13 @@ def discrete_phase(phase: ContinuumPhase, p: Parameters, out: Path) -> dict[str,
                             "observed: crest dropped about 10 m (at the full height)"),
     }
     trace = slip_trace(disc, on_surface)
+    by_threshold = {}
+    for t in (p.slip_min, 0.5, 1.0, 2.0):
+        k = ~disc.interface_intact & (slip >= t)
+        ie = disc.interface_elements[k]
+        by_threshold[f"{t:g}"] = {"interfaces": int(k.sum()),
+                                  "yellow_clay": int((group[ie] == "yellow_clay").any(1).sum()),
+                                  "boot": int(boot[ie].any(axis=1).sum())}
     return {
         "handover": hand.report,
         "discrete": {
@@ -473,7 +480,7 @@ def discrete_phase(phase: ContinuumPhase, p: Parameters, out: Path) -> dict[str,
             "interfaces_failed": int((~disc.interface_intact).sum()),
             "slip_surface_interfaces": int(on_surface.sum()),
             "slip_surface_yellow_clay": through_clay, "slip_surface_boot": through_boot,
-            "slip_surface_trace_m": trace,
+            "slip_surface_trace_m": trace, "slipped_interfaces_by_threshold_m": by_threshold,
             "upstream_shoulder_mean_dx_m": shoulder_dx,
             "upstream_toe_dx_m": toe_dx, "crest_drop_m": crest_drop,
             "max_upstream_movement_m": float(-u[emb_nodes, 0].min()),
