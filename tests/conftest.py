@@ -16,6 +16,19 @@ PYTHON = sys.executable
 os.environ.setdefault("MPLBACKEND", "Agg")
 
 
+def assert_bars(summary: dict) -> None:
+    """Every check of a case summary that has a reference and a bar passes it; report-only
+    checks are finite."""
+    import math
+
+    for name, check in summary["checks"].items():
+        if check.bar is not None:
+            assert check.passed, f"{name}: {check.computed} vs {check.reference} " \
+                                 f"(error {check.error}, bar {check.bar})"
+        else:
+            assert math.isfinite(check.computed), name
+
+
 @pytest.fixture
 def case():
     """Return a loader: case("flexible_footing") -> the imported case module."""

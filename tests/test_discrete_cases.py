@@ -6,11 +6,11 @@ exist: summary.json, discrete.xdmf (+h5, a meshio time series), the GIF and the 
 """
 
 import json
-import math
 
 import meshio
 import numpy as np
 import pytest
+from conftest import assert_bars
 
 pytest.importorskip("hybrid.discrete.contact")
 
@@ -33,16 +33,6 @@ def _assert_outputs(out, summary, min_frames=1):
     assert len(list((out / "frames").glob("frame_*.png"))) == reader.num_steps
 
 
-def _assert_bars(summary):
-    """Every check that has a reference and a bar passes it; report-only checks are finite."""
-    for name, check in summary["checks"].items():
-        if check.bar is not None:
-            assert check.passed, f"{name}: {check.computed} vs {check.reference} " \
-                                 f"(error {check.error}, bar {check.bar})"
-        else:
-            assert math.isfinite(check.computed), name
-
-
 def test_free_fall_case(case, tmp_path):
     """D1: acceleration g to 1e-9 relative, a_x, v_x and stress zero to 1e-9 (of g, of
     rho g L); D2: terminal velocity g / alpha = 3.27 m/s to 0.5 % and the whole v(t) history
@@ -55,7 +45,7 @@ def test_free_fall_case(case, tmp_path):
     assert checks["D1_acceleration_y"].bar == 1e-9
     assert checks["D2_terminal_velocity"].reference == pytest.approx(9.81 / 3.0)
     assert checks["D2_terminal_velocity"].bar == 5e-3
-    _assert_bars(s)
+    assert_bars(s)
     assert s["stop_reason"] == "time"
     _assert_outputs(tmp_path, s, min_frames=2)
     assert (tmp_path / "velocity.png").is_file()
@@ -72,7 +62,7 @@ def test_block_drop_case(case, tmp_path):
     assert ref.reference == pytest.approx(-2.0 * 9.81 * 0.5 / 2.0)  # -rho g h / 2 [kPa]
     assert ref.bar == 0.05
     assert s["checks"]["energy_excess_over_sources"].bar == 0.01
-    _assert_bars(s)
+    assert_bars(s)
     # symmetric set-up: both base blocks carry the same load (to 5 %, the stress bar)
     left = s["checks"]["base_left_bottom_row_sigma_yy"].computed
     right = s["checks"]["base_right_bottom_row_sigma_yy"].computed
@@ -90,7 +80,7 @@ def test_fe_de_interaction_case(case, tmp_path):
     assert c["block_sigma_yy"].reference == -200.0 and c["block_sigma_yy"].bar == 0.05
     assert c["assembly_top_row_load"].reference == pytest.approx(400.0)
     assert c["base_reaction"].bar == 0.01
-    _assert_bars(s)
+    assert_bars(s)
     # the block came down onto the assembly: it settled by more than its 0.02 m clearance
     assert s["block_settlement"] > 0.02
     _assert_outputs(tmp_path, s, min_frames=2)
@@ -103,7 +93,7 @@ def test_toppling_case(case, tmp_path):
     mod = case("toppling")
     s = mod.main(out=tmp_path, output_every=5_000, progress=False)
     assert s["stop_reason"] == "rest"
-    _assert_bars(s)
+    assert_bars(s)
     assert s["n_failed_tension"] > 0
     # it broke up: more than half of the face's 171 interfaces failed
     assert s["n_failed"] > 0.5 * (3 * 25 + 4 * 24)

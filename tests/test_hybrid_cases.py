@@ -7,21 +7,12 @@ every output opens in meshio. The default set runs coarse meshes; the full cases
 """
 
 import json
-import math
 
 import meshio
 import pytest
+from conftest import assert_bars
 
 pytest.importorskip("hybrid.discrete.contact")
-
-
-def _assert_bars(summary):
-    for name, check in summary["checks"].items():
-        if check.bar is not None:
-            assert check.passed, f"{name}: {check.computed} vs {check.reference} " \
-                                 f"(error {check.error}, bar {check.bar})"
-        else:
-            assert math.isfinite(check.computed), name
 
 
 def _assert_outputs(out, summary):
@@ -47,7 +38,7 @@ def test_retaining_wall_collapse_coarse(case, tmp_path):
     comes to rest; wedge, energy, rest and conservation at their bars."""
     s = case("retaining_wall_collapse").main(out=tmp_path, size=1.0, output_every=500,
                                                 progress=False)
-    _assert_bars(s)
+    assert_bars(s)
     assert s["discrete"]["stop"] == "rest"
     assert s["discrete"]["runout_m"] > 1.0  # the sand spread in front of the wall
     assert s["discrete"]["interfaces_failed"] > 0
@@ -60,7 +51,7 @@ def test_footing_failure_coarse(case, tmp_path):
     elements and mass kept."""
     s = case("footing_failure").main(out=tmp_path, fine=0.15, coarse=0.6, continuum_steps=12,
                                      output_every=500, progress=False)
-    _assert_bars(s)
+    assert_bars(s)
     q = s["continuum"]["collapse_pressure_kPa"]
     assert abs(q / s["checks"]["collapse_vs_Vesic"].reference - 1.0) < 0.10
     assert s["discrete"]["stop"] == "rest"
@@ -73,7 +64,7 @@ def test_footing_failure_coarse(case, tmp_path):
 def test_retaining_wall_collapse_full(case, tmp_path):
     """H3 at the default 0.5 m elements: wedge within 5 deg of 60 deg and the other bars."""
     s = case("retaining_wall_collapse").main(out=tmp_path, progress=False)
-    _assert_bars(s)
+    assert_bars(s)
     assert s["checks"]["wedge_angle"].bar is not None
     assert s["discrete"]["stop"] == "rest"
     _assert_outputs(tmp_path, s)
@@ -83,7 +74,7 @@ def test_retaining_wall_collapse_full(case, tmp_path):
 def test_footing_failure_full(case, tmp_path):
     """H2 as `make demo` runs it: 1 800 kPa held until 0.5 m of settlement, then rest."""
     s = case("footing_failure").main(out=tmp_path, progress=False)
-    _assert_bars(s)
+    assert_bars(s)
     assert s["discrete"]["settlement_at_unloading_m"] >= 0.5
     assert s["discrete"]["stop"] == "rest"
     _assert_outputs(tmp_path, s)
