@@ -53,7 +53,7 @@ from hybrid.handover import Region, to_discrete
 from hybrid.io import Check, plot_cell_field, write_continuum_xdmf, write_summary
 from hybrid.materials import Material
 from hybrid.model import Displacement, Fixed, Model, Roller
-from hybrid.report import plot_energy
+from hybrid.report import plot_energy, plot_thrust_translation
 
 MESHES = Path(__file__).resolve().parent.parent / "meshes"
 
@@ -70,7 +70,7 @@ class Parameters:
     E: float = 70_000.0  # [kPa]
     nu: float = 0.35  # [-]
     translation: float = 0.02  # active wall movement in the continuum [m]
-    passive_translation: float = 0.0  # passive stage (0: skipped) [m]
+    passive_translation: float = 0.4  # passive stage (0: skipped) [m]
     steps: int = 10  # continuum increments per stage
     split_plastic_strain: float = 0.02  # bonds fail beyond this plastic strain [-]
     plastic_strain_cap: float = 0.3  # element flow stops here, sliding takes over [-]
@@ -133,6 +133,14 @@ def main(out: str | Path = "results/retaining_wall_collapse", **overrides) -> di
         summary["continuum"]["passive"] = {"translation_m": pm, "thrust_kN_per_m": pt}
         checks["passive_thrust"] = Check(pt[-1], kp * half_gh2, None, "kN/m",
                                          "report: Rankine K_p")
+    if state.comm.rank == 0:
+        passive = summary["continuum"].get("passive")
+        plot_thrust_translation(
+            out / "thrust_translation.png", moves, thrust,
+            {"Rankine active": ka * half_gh2, "Rankine passive": half_gh2 / ka},
+            label="active", title="H3: smooth wall, rough base",
+            more={"passive": (passive["translation_m"], passive["thrust_kN_per_m"])}
+            if passive else None)
     write_continuum_xdmf(out / "continuum.xdmf", state)
     plot_cell_field(out / "handover_plastic_strain.png", state.model.mesh,
                     state.cell_plastic_strain(), title="Active state: plastic strain",

@@ -160,7 +160,9 @@ def plot_load_settlement(path: str | Path, settlement: Sequence[float],
 def plot_thrust_translation(path: str | Path, translation: Sequence[float],
                             thrust: Sequence[float],
                             references: Mapping[str, float] | None = None, *,
-                            title: str = "Wall: thrust-translation") -> Path:
+                            title: str = "Wall: thrust-translation", label: str = "hybrid",
+                            more: Mapping[str, tuple[Sequence[float], Sequence[float]]]
+                            | None = None) -> Path:
     """Horizontal thrust on the wall [kN/m] against wall translation [m], Rankine lines.
 
     ``references``: e.g. {"Rankine active": 275.0, "at rest": ..., "Rankine passive": 2475.0}
@@ -169,7 +171,7 @@ def plot_thrust_translation(path: str | Path, translation: Sequence[float],
     """
     return plot_curve(path, translation, thrust, xlabel="wall translation [m]",
                       ylabel="horizontal thrust on the wall [kN/m]", title=title,
-                      references=references, reference_unit="kN/m")
+                      references=references, reference_unit="kN/m", label=label, more=more)
 
 
 # --- report ------------------------------------------------------------------------------------
