@@ -370,8 +370,9 @@ def _check_distortion(state: DiscreteState, dt: float, contact: bool) -> None:
             f"discrete run stopped at step {state.step} (t = {state.time:.6g} s): the elements "
             f"have distorted so much that the stable time step fell to {crit:.4g} s, below the "
             f"run's dt = {dt:.4g} s (large plastic flow pancakes an element). Continue with a "
-            "smaller dt (run(..., dt=...)), or let the flowing region split "
-            "(split_plastic_strain).")
+            "smaller dt (run(..., dt=...)), let the flowing region split "
+            "(split_plastic_strain) or stop the flow inside elements beyond a plastic strain "
+            "(plastic_strain_cap, e.g. 0.3).")
 
 
 class _XdmfSeries:
