@@ -129,7 +129,7 @@ class Parameters:
     discrete_time: float = 15.0  # [s] at most (0: continuum only); stops earlier at rest
     region_layers: int = 2  # growth of the splittable region around the yielded cells
     split_plastic_strain: float = 0.02  # bonds also fail beyond this plastic strain [-]
-    plastic_strain_cap: float | None = None  # element flow limit [-] (None: none)
+    plastic_strain_cap: float | None = 2.0  # element flow limit [-] (None: none)
     damping: float = 0.5  # mass damping alpha [1/s]
     contact_damping: float = 0.2  # normal contact damping ratio [-]
     clay_residual_phi: float = 12.0  # contact friction of yellow clay and core [deg]
