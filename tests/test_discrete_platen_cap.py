@@ -95,3 +95,20 @@ def test_material_contact_damping():
     assert material_rows([m], 0.5)[4][0, 3] == 0.2
     with pytest.raises(MaterialError, match="contact_damping"):
         Material("sand", E=7e4, nu=0.3, unit_weight=18.0, phi=30.0, contact_damping=1.5)
+
+
+def test_frozen_elements_do_not_limit_the_time_step():
+    """A held (frozen) stiff element does not move, so only the free soft element sets the
+    stable time step; with nothing free the elements' own bound is returned."""
+    from hybrid.discrete.builders import blocks
+
+    soft = DiscreteMaterial(E=1.0e3, nu=0.3, density=2.0)
+    stiff = DiscreteMaterial(E=1.0e7, nu=0.3, density=2.0)
+    st = blocks([(1.0, 1.0, 1, 1, (0.0, 0.0), 0), (1.0, 1.0, 1, 1, (2.0, 0.0), 1)],
+                [soft, stiff], gravity=(0.0, 0.0))
+    both = integrate.stable_time_step(st, contact=False)
+    st.fix(st.element_nodes[1])
+    free = integrate.stable_time_step(st, contact=False)
+    assert free == pytest.approx(both * 100.0, rel=1e-12)  # c_p ratio sqrt(1e7 / 1e3)
+    st.fix(st.element_nodes[0])
+    assert integrate.stable_time_step(st, contact=False) == pytest.approx(both, rel=1e-12)
