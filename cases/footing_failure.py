@@ -14,12 +14,16 @@ Set-up
     2. Handover at the last converged state: every cell becomes a Q4 element; interfaces in the
        yielded region grown by ``region_layers`` may split (interface strength = the soil's
        c, phi, tension cut-off c cot phi); cells beyond ``freeze_layers`` more layers are held.
-    3. Discrete (numba): the pressure raised to ``pressure`` (1 800 kPa) over ``ramp_time``,
-       held until the footing has settled ``target_settlement`` (0.5 m), removed over
-       ``ramp_time``, then run to rest.
-Verification (report; H2 has no closed form)
-    Splitting under the footing edges, heave beside the footing, rest after unloading, bounded
-    energy, element count and mass unchanged.
+    3. Discrete (numba): the footing's nodes tied into one rigid rough platen
+       (``DiscreteState.tie_rigidly``) carrying the same total load; the pressure raised to
+       ``pressure`` (1 800 kPa) over ``ramp_time``, held until the footing has settled
+       ``target_settlement`` (0.5 m), removed over ``ramp_time``, then run to rest. Bonds also
+       fail beyond ``split_plastic_strain``; element flow stops at ``plastic_strain_cap``.
+Verification (H2 has no closed form)
+    Bars: rest after unloading (E_kin <= ``rest`` x its peak), bounded energy (E_kin +
+    E_strain + E_contact at most 1 % of the supply above E(0) + work of loads and gravity),
+    element count and mass unchanged. Reported: the collapse load against the classical
+    estimates, the settlement at unloading, heave beside the footing, failed interfaces.
 References
     G. S. Bala (2008), thesis, section 5.4.1 (the footing is loaded to 1 800 kPa there).
 """
