@@ -27,7 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
-from hybrid.continuum.plastic import NewtonOptions, PlasticSolver
+from hybrid.continuum.plastic import NewtonOptions, PlasticSolver, plateau_rise
 from hybrid.geometry import build_mesh, load_builder
 from hybrid.io import Check, plot_cell_field, write_continuum_xdmf, write_summary
 from hybrid.materials import Material
@@ -83,7 +83,7 @@ def main(out: str | Path = "results/bearing_capacity", **overrides) -> dict:
                             Displacement("footing", uy=-p.settlement)])
     solver = PlasticSolver(model, degree=p.degree, options=NewtonOptions(max_iterations=30))
     if p.unit_weight > 0:
-        solver.apply_gravity(steps=2)
+        solver.apply_gravity(steps=2).require()
         solver.reset_displacement()
     base_force = solver.reaction("footing", 1)  # the self-weight share of the footing force
     solver.monitors["pressure"] = lambda: -(solver.reaction("footing", 1) - base_force) / b
@@ -101,19 +101,19 @@ def main(out: str | Path = "results/bearing_capacity", **overrides) -> dict:
                                if "pressure" in r.monitors])
     pressure = np.array([0.0] + [r.monitors["pressure"] for r in solver.history
                                  if "pressure" in r.monitors])
+    analysis.require_limit(settle, pressure)  # stopped short: only on the load plateau
     limit = float(pressure[-1])
     reference = prandtl(p.cohesion, p.phi)
     associated = abs(psi - p.phi) < 1e-12
     state = solver.state()
     # plateau: rise of the pressure over the last fifth of the push, relative to its end value
-    tail = settle >= 0.8 * settle[-1]
-    plateau_rise = float((pressure[-1] - pressure[tail][0]) / pressure[-1]) if limit else 0.0
+    rise = plateau_rise(settle, pressure) if limit else 0.0
     summary = {
         "case": f"bearing_capacity ({p.case_id})", "out": str(out), "parameters": asdict(p),
         "cells": state.info["cells"], "dofs": state.info["dofs"],
         "steps": state.info["steps"], "newton_iterations": state.info["newton_iterations"],
         "wall_time_s": state.info["wall_time_s"], "completed": analysis.completed,
-        "plateau_rise_last_fifth": plateau_rise,
+        "plateau_rise_last_fifth": rise,
         "curve": {"settlement_m": settle, "pressure_kPa": pressure},
         "residual_histories": [r.residuals for r in solver.history[-3:]],
         "checks": {"limit_pressure": Check(

@@ -82,7 +82,7 @@ def main(out: str | Path = "results/retaining_wall", **overrides) -> dict:
                             Roller("right", "x"),
                             Displacement("left", ux=sign * move)])
     solver = PlasticSolver(model, degree=p.degree)
-    solver.apply_gravity(steps=2)
+    solver.apply_gravity(steps=2).require()
     at_rest = abs(solver.reaction("left", 0))
     solver.monitors["thrust"] = lambda: abs(solver.reaction("left", 0))
     analysis = solver.ramp(1.0, p.steps)
@@ -90,6 +90,7 @@ def main(out: str | Path = "results/retaining_wall", **overrides) -> dict:
                                     if "thrust" in r.monitors])
     thrust = np.array([at_rest] + [r.monitors["thrust"] for r in solver.history
                                    if "thrust" in r.monitors])
+    analysis.require_limit(translation, thrust if p.mode == "passive" else -thrust)
     k, reference = rankine(p.mode, p.phi, p.unit_weight, p.height)
     bar = 0.05 if p.mode == "active" else 0.10
     state = solver.state()

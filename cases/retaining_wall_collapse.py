@@ -104,13 +104,15 @@ def main(out: str | Path = "results/retaining_wall_collapse", **overrides) -> di
                       supports=[Displacement("wall", ux=move), *supports,
                                 Fixed("backfill_base")])
         solver = PlasticSolver(model, degree=2)
-        solver.apply_gravity(steps=2)
+        solver.apply_gravity(steps=2).require()
         thrust = [abs(solver.reaction("wall", 0))]
         solver.monitors["thrust"] = lambda: abs(solver.reaction("wall", 0))
-        solver.ramp(1.0, p.steps)
+        analysis = solver.ramp(1.0, p.steps)
         moves = [0.0] + [r.load_factor * abs(move) for r in solver.history
                          if "thrust" in r.monitors]
         thrust += [r.monitors["thrust"] for r in solver.history if "thrust" in r.monitors]
+        # stopped short: only on the limit (the thrust falls to active, rises to passive)
+        analysis.require_limit(moves, thrust if move > 0 else [-t for t in thrust])
         return solver, moves, thrust
 
     # 1. continuum: at rest, active (and passive) translation of the smooth wall

@@ -78,9 +78,7 @@ def main(out: str | Path = "results/staged_embankment", **overrides) -> dict:
     solver.set_active([])  # nothing built yet; each lift comes with its weight
     leak = 0.0
     for k, name in enumerate(names):
-        analysis = solver.activate([name], steps=p.ramp_steps)
-        if not analysis.completed:
-            raise RuntimeError(f"no equilibrium when placing {name}")
+        solver.activate([name], steps=p.ramp_steps).require()
         later = np.concatenate([mesh.cells(n) for n in names[k + 1:]] or [np.array([], int)])
         s = solver.stress.reshape(solver.sspace.num_cells, -1, 4)
         leak = max(leak, float(np.max(np.abs(s[later]), initial=0.0)))

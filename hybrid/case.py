@@ -15,7 +15,10 @@ from pathlib import Path
 from types import ModuleType
 from typing import Any
 
-__all__ = ["CaseError", "parse_overrides", "load_case", "run_case", "case_arguments"]
+from hybrid.errors import StageIncomplete
+
+__all__ = ["CaseError", "parse_overrides", "load_case", "run_case", "case_arguments",
+           "uses_defaults"]
 
 
 class CaseError(ValueError):
@@ -43,6 +46,13 @@ def _convert(field: dataclasses.Field, text: str) -> Any:
     except ValueError:
         raise CaseError(f"--set {field.name}={text}: expected a {kind_name}") from None
     return text
+
+
+def uses_defaults(parameters: Any, names: Sequence[str]) -> bool:
+    """True when the fields ``names`` of a case's ``parameters`` keep their defaults (the
+    published problem the case reproduces): its published references apply."""
+    defaults = {f.name: f.default for f in dataclasses.fields(parameters)}
+    return all(getattr(parameters, n) == defaults[n] for n in names)
 
 
 def parse_overrides(parameters: type, items: Sequence[str]) -> dict[str, Any]:
@@ -105,7 +115,9 @@ def run_case(main: Callable[..., dict], parameters: type, argv: Sequence[str] | 
 
 def execute(main: Callable[..., dict], parameters: type, args: argparse.Namespace,
             name: str | None = None) -> int:
-    """Run ``main`` with parsed options; report where the results are (rank 0)."""
+    """Run ``main`` with parsed options; report where the results are (rank 0).
+
+    Returns 0, or 3 when an analysis stage did not complete (its message on stderr)."""
     from mpi4py import MPI
 
     if args.list:
@@ -115,7 +127,13 @@ def execute(main: Callable[..., dict], parameters: type, args: argparse.Namespac
     kwargs: dict[str, Any] = dict(overrides)
     if args.out:
         kwargs["out"] = args.out
-    summary = main(**kwargs)
+    try:
+        summary = main(**kwargs)
+    except StageIncomplete as err:
+        # collective: every rank met the same unconverged stage
+        if MPI.COMM_WORLD.rank == 0:
+            print(f"stage incomplete: {err}", file=sys.stderr)
+        return 3
     if MPI.COMM_WORLD.rank == 0:
         out = summary.get("out", args.out) if isinstance(summary, dict) else args.out
         checks = summary.get("checks", {}) if isinstance(summary, dict) else {}

@@ -8,7 +8,9 @@ What is carried (``to_discrete``):
     (P1 triangle, 1 point; Q1, 2x2 Gauss) point by point; otherwise (P2 / Q2) the **cell mean**
     (the local L2 projection onto constants) at every discrete Gauss point, and the maximum
     plastic strain / any yielded point of the cell;
-  * materials (density from the unit weight, strengths, interface and contact parameters),
+  * materials (density from the unit weight, strengths, interface and contact parameters)
+    at the strengths in force in the continuum state (a strength-reduction state hands over
+    its reduced strengths; ``strength_factor`` chooses others),
     supports (Fixed, Roller: the nodes on the boundary are held; Displacement: held, at the
     velocity the caller sets), surface loads (consistent nodal forces on each boundary edge of
     its element, at the current geometry, kept in ``load_forces`` so that a load history can
@@ -223,11 +225,15 @@ def _match_points(disc: Any, qp: np.ndarray) -> np.ndarray:
 
 
 def to_discrete(state: Any, *, region: Region | None = None,
-                freeze_layers: int | None = None, gravity: bool | None = None) -> Handover:
+                freeze_layers: int | None = None, gravity: bool | None = None,
+                strength_factor: float | None = None) -> Handover:
     """Build the discrete start from a converged :class:`~hybrid.continuum.ContinuumState`.
 
     Only the cells in place are handed over (staged construction: ``state.active``); a lift
-    the continuum placed with part of its weight gets all of it in the discrete phase."""
+    the continuum placed with part of its weight gets all of it in the discrete phase.
+    The discrete materials have the strengths in force in ``state`` (its
+    ``strength_factor``: the reduced strengths of a strength-reduction state) unless
+    ``strength_factor`` is given (1: the materials as defined); the report records them."""
     from hybrid.discrete.state import check_elements, from_mesh
 
     region = region or Region()
@@ -235,7 +241,9 @@ def to_discrete(state: Any, *, region: Region | None = None,
     md = state.model.mesh
     if data is None:
         return Handover(None, np.zeros(0, bool), np.zeros(0, bool), np.zeros((0, 2)))
-    materials = [state.model.materials[k] for k in state.model.material_names]
+    factor = state.strength_factor if strength_factor is None else strength_factor
+    materials = [m.weakened(factor) if m.is_plastic and factor != 1.0 else m
+                 for m in (state.model.materials[k] for k in state.model.material_names)]
     if gravity is None:
         gravity = state.info.get("gravity_factor", 1.0 if state.info.get("solver") == "elastic"
                                  else 0.0) > 0
@@ -279,7 +287,7 @@ def to_discrete(state: Any, *, region: Region | None = None,
     boundary: dict[str, list[int]] = {}
     load_forces = np.zeros_like(disc.x)
     loads = {load.boundary: load for load in state.model.loads}
-    factor = float(state.info.get("load_factor", 1.0))
+    load_factor = float(state.info.get("load_factor", 1.0))
     for tag, va, vb, orig in data["facets"]:
         name = name_of_tag[tag]
         e = elem_of_original[orig]
@@ -288,8 +296,8 @@ def to_discrete(state: Any, *, region: Region | None = None,
         b = int(nodes[np.flatnonzero(point_of_node[nodes] == vb)[0]])
         boundary.setdefault(name, []).extend([a, b])
         if name in loads:
-            load_forces[[a, b]] += 0.5 * factor * _edge_force(loads[name], disc.x[a], disc.x[b],
-                                                             disc.element_centroids()[e])
+            load_forces[[a, b]] += 0.5 * load_factor * _edge_force(
+                loads[name], disc.x[a], disc.x[b], disc.element_centroids()[e])
     boundary_nodes = {k: np.unique(v) for k, v in boundary.items()}
     for support in state.model.supports:
         nodes = boundary_nodes.get(support.boundary, np.zeros(0, dtype=np.int64))
@@ -307,7 +315,9 @@ def to_discrete(state: Any, *, region: Region | None = None,
               "splittable_interfaces": int(disc.interface_splittable.sum()),
               "frozen_elements": int(frozen.sum()), "total_mass_t_per_m": float(disc.mass.sum()),
               "stress_mapping": "point by point" if exact else "cell mean (L2 onto constants)",
-              "element": "Q4" if nen == 4 else "T3"}
+              "element": "Q4" if nen == 4 else "T3", "strength_factor": float(factor),
+              "strengths": {m.name: {"cohesion_kPa": m.cohesion, "phi_deg": m.phi,
+                                     "psi_deg": m.psi} for m in materials if m.is_plastic}}
     return Handover(disc, splittable, frozen, load_forces, boundary_nodes, report)
 
 

@@ -52,6 +52,16 @@ class Check:
         out.update(error=self.error, passed=self.passed)
         return out
 
+    @classmethod
+    def published(cls, computed: float, reference: float, bar: float | None, unit: str,
+                  source: str, *, applies: bool) -> Check:
+        """A comparison with a published value, made only when the run uses the publication's
+        parameters (``applies``); otherwise the figure is reported with "no reference for
+        these parameters"."""
+        if applies:
+            return cls(computed, reference, bar, unit, source)
+        return cls(computed, None, None, unit, f"no reference for these parameters ({source})")
+
 
 def _jsonable(value: Any) -> Any:
     if isinstance(value, Check):

@@ -162,11 +162,27 @@ class Material:
                 math.cos(phi), math.sin(psi), self.resolved_tensile_strength())
 
     def weakened(self, factor: float) -> Material:
-        """Strength reduced by ``factor`` (c / F, tan(phi) / F, tan(psi) / F): for FOS analyses."""
-        if factor <= 0:
-            raise MaterialError(f"material '{self.name}': strength factor {factor} must be > 0")
-        phi = math.degrees(math.atan(math.tan(math.radians(self.phi)) / factor))
-        psi = math.degrees(math.atan(math.tan(math.radians(self.psi)) / factor))
-        ts = None if self.tensile_strength is None else self.tensile_strength / factor
-        return replace(self, cohesion=self.cohesion / factor, phi=phi, psi=min(psi, phi),
-                       tensile_strength=ts, plastic=self.is_plastic)
+        """Every strength divided by ``factor`` (strength reduction, Zienkiewicz et al. 1975):
+        c / F, tan(phi) / F, tan(psi) / F, tensile strength / F, and the same for the
+        interface and contact strengths that are given (those left None follow c and phi).
+        ``factor`` < 1 makes the material stronger."""
+        if not (isinstance(factor, int | float) and math.isfinite(factor) and factor > 0):
+            raise MaterialError(f"material '{self.name}': strength factor {factor!r} must be a "
+                                "finite number > 0")
+
+        def angle(value: float | None) -> float | None:
+            if value is None:
+                return None
+            return math.degrees(math.atan(math.tan(math.radians(value)) / factor))
+
+        def divided(value: float | None) -> float | None:
+            return None if value is None else value / factor
+
+        phi = angle(self.phi)
+        return replace(self, cohesion=self.cohesion / factor, phi=phi,
+                       psi=min(angle(self.psi), phi), plastic=self.is_plastic,
+                       tensile_strength=divided(self.tensile_strength),
+                       interface_cohesion=divided(self.interface_cohesion),
+                       interface_phi=angle(self.interface_phi),
+                       interface_tensile_strength=divided(self.interface_tensile_strength),
+                       contact_phi=angle(self.contact_phi))

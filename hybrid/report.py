@@ -37,10 +37,11 @@ def plot_curve(path: str | Path, x: Sequence[float], y: Sequence[float], *, xlab
                ylabel: str, title: str = "", label: str = "hybrid",
                references: Mapping[str, float] | None = None,
                reference_unit: str = "",
-               more: Mapping[str, tuple[Sequence[float], Sequence[float]]] | None = None
-               ) -> Path:
+               more: Mapping[str, tuple[Sequence[float], Sequence[float]]] | None = None,
+               xscale: str = "linear", origin: bool = True) -> Path:
     """PNG of a curve y(x) with each reference drawn as a labelled horizontal line and
-    ``more`` curves {label: (x, y)} beside it.
+    ``more`` curves {label: (x, y)} beside it. ``xscale``: "linear" or "log" (points with
+    x <= 0 are then left out); ``origin``: the axes include x = 0 and y = 0.
 
     Writes ``path`` (PNG) and ``path.with_suffix('.json')``: {x, y, xlabel, ylabel, references}.
     """
@@ -53,15 +54,19 @@ def plot_curve(path: str | Path, x: Sequence[float], y: Sequence[float], *, xlab
     y = np.asarray(y, dtype=float)
     if x.shape != y.shape or x.ndim != 1:
         raise ValueError(f"x and y must be 1-D of the same length, got {x.shape} and {y.shape}")
+    if xscale not in ("linear", "log"):
+        raise ValueError(f"xscale = {xscale!r}: choose 'linear' or 'log'")
     refs = {str(k): float(v) for k, v in (references or {}).items()}
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fig, ax = plt.subplots(figsize=(6.4, 4.4), dpi=100)
-    ax.plot(x, y, "o-", ms=3, lw=1.5, color="C0", label=label)
+    shown = x > 0 if xscale == "log" else np.ones(x.shape, bool)
+    ax.plot(x[shown], y[shown], "o-", ms=3, lw=1.5, color="C0", label=label)
     extra = {str(k): (np.asarray(a, float), np.asarray(b, float))
              for k, (a, b) in (more or {}).items()}
     for j, (name, (xa, ya)) in enumerate(extra.items()):
-        ax.plot(xa, ya, "-", lw=1.2, color=f"C{len(refs) + j + 1}", label=name)
+        keep = xa > 0 if xscale == "log" else np.ones(xa.shape, bool)
+        ax.plot(xa[keep], ya[keep], "-", lw=1.2, color=f"C{len(refs) + j + 1}", label=name)
     styles = ("--", "-.", ":", (0, (5, 1)), (0, (3, 1, 1, 1)))
     for i, (name, value) in enumerate(refs.items()):
         ax.axhline(value, color=f"C{i + 1}", ls=styles[i % len(styles)], lw=1.2,
@@ -70,10 +75,13 @@ def plot_curve(path: str | Path, x: Sequence[float], y: Sequence[float], *, xlab
     ax.set_ylabel(ylabel)
     if title:
         ax.set_title(title)
-    ax.set_xlim(left=min([0.0, *(float(a.min()) for a in [x, *(e[0] for e in extra.values())]
-                                 if a.size)]))
-    ax.set_ylim(bottom=min([0.0, *(float(b.min()) for b in [y, *(e[1] for e in extra.values())]
-                                   if b.size)]))
+    ax.set_xscale(xscale)
+    if origin and xscale == "linear":
+        ax.set_xlim(left=min([0.0, *(float(a.min())
+                                     for a in [x, *(e[0] for e in extra.values())] if a.size)]))
+    if origin:
+        ax.set_ylim(bottom=min([0.0, *(float(b.min())
+                                       for b in [y, *(e[1] for e in extra.values())] if b.size)]))
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="best")
     fig.tight_layout()

@@ -168,6 +168,16 @@ def _wall_figures(summary: dict, out: Path) -> list[Path]:
         title=f"{summary.get('case', 'wall')}: thrust-translation")]
 
 
+def _below_one_extra(summary: dict) -> dict[str, Check]:
+    """The weak slope: F below 1 and within 5 % of the Bishop value of its section."""
+    vs = summary["checks"]["factor_of_safety_vs_bishop"]
+    return {"below_one": Check(float(summary["below_one"]), 1.0, 0.0, "-",
+                               "the strength search reports F < 1"),
+            "factor_of_safety_within_5_percent_of_bishop": Check(
+                vs.computed, vs.reference, 0.05, "-",
+                "F of the finest mesh against Bishop's simplified method, same section")}
+
+
 # reduced mesh / steps of the footing runs (about 4 s each here; full about 10 s)
 _FOOTING_FAST = {"fine": 0.06, "coarse": 0.8, "steps": 20}
 
@@ -239,10 +249,28 @@ CASES: dict[str, VerificationCase] = {c.id: c for c in (
         figures=_wall_figures,
         keep=("thrust_translation_*.png", "*plastic_strain.png")),
     VerificationCase(
-        "C9", "Slope factor of safety by strength reduction (Griffiths & Lane 1999, ex. 1)",
-        "slope_fos.py",
-        reference="Bishop & Morgenstern (1960) charts F = 1.38 (Griffiths & Lane FE: 1.4)",
-        bar="5 %"),
+        "C9", "Slope factor of safety by strength reduction (Griffiths & Lane 1999, ex. 1), "
+        "psi = 0, three meshes", "slope_fos.py",
+        overrides={"meshes": "8,12"}, full_overrides={"meshes": "16,24,32"},
+        reference="Bishop & Morgenstern (1960) charts F = 1.38 (Griffiths & Lane FE: 1.4); "
+                  "this project's Bishop simplified search beside it",
+        bar="3 % each mesh; meshes within 2 % of each other; Bishop search 1 %",
+        keep=("strength_reduction_curve.png", "mechanism_displacement.png")),
+    VerificationCase(
+        "C9-associated", "The same slope with psi = phi = 20 deg", "slope_fos.py",
+        overrides={"meshes": "8,12", "psi": 20.0},
+        full_overrides={"meshes": "16,24,32", "psi": 20.0},
+        reference="Bishop & Morgenstern (1960) charts F = 1.38; Bishop search beside it",
+        bar="3 % each mesh; meshes within 2 % of each other; Bishop search 1 %",
+        keep=("strength_reduction_curve.png", "mechanism_displacement.png")),
+    VerificationCase(
+        "C9-weak", "A slope too weak to stand: c = 5 kPa, phi = 10 deg (F < 1)",
+        "slope_fos.py", overrides={"meshes": "8,12", "cohesion": 5.0, "phi": 10.0},
+        full_overrides={"meshes": "16,24,32", "cohesion": 5.0, "phi": 10.0},
+        reference="this project's Bishop simplified search of the same section",
+        bar="F < 1 within 5 % of Bishop (no published value for these parameters)",
+        extra=_below_one_extra,
+        keep=("strength_reduction_curve.png", "mechanism_displacement.png")),
     VerificationCase(
         "C10", "Staged construction: a confined fill column placed in 4 lifts",
         "staged_embankment.py",

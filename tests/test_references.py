@@ -219,3 +219,100 @@ def test_oedometer():
     assert ref.oedometric_modulus(20_000.0, 0.3) == pytest.approx(M, rel=1e-15)
     assert ref.oedometer_settlement(19.0, 10.0, 20_000.0, 0.3) == pytest.approx(
         19.0 * 100 / (2 * M), rel=1e-15)
+
+
+# --- slope stability: methods of slices on circles -------------------------------------------
+
+# Fredlund & Krahn (1977), Can. Geotech. J. 14(3), 429-439, case 1: a 2:1 slope 40 ft high,
+# c' = 600 psf, phi' = 20 deg, gamma = 120 pcf, dry; the circle centred at (120, 90) ft with an
+# 80 ft radius (coordinates of the reproduction in pyBIMstab: crest at y = 60 from x = 0 to 60,
+# toe at (140, 20), toe ground to x = 170). Published: ordinary 1.928, Bishop simplified 2.080
+# (MacSlope 1.929 / 2.078). Any consistent units work (F is a ratio): ft, psf, pcf here.
+FREDLUND_KRAHN = np.array([[0.0, 60.0], [60.0, 60.0], [140.0, 20.0], [170.0, 20.0]])
+
+
+def test_fredlund_krahn_case_1():
+    """Bishop 2.080 and ordinary 1.928 within 0.5 %: the published programs differ by 0.1 %
+    between themselves (slices, exit handling); 60 slices here."""
+    soil = ref.uniform_soil(120.0, 600.0, 20.0)
+    bishop = ref.circle_factor(FREDLUND_KRAHN, soil, (120.0, 90.0), 80.0)
+    ordinary = ref.circle_factor(FREDLUND_KRAHN, soil, (120.0, 90.0), 80.0, method="ordinary")
+    assert bishop == pytest.approx(2.080, rel=0.005)
+    assert ordinary == pytest.approx(1.928, rel=0.005)
+    assert ordinary < bishop  # Fellenius neglects all interslice forces: conservative here
+
+
+def _sliding_mass(surface, centre, radius, n=20001):
+    """Area [m2] and centroid x [m] of the mass above the arc (exact up to 1e-8)."""
+    xc, yc = centre
+    x = np.linspace(xc - radius, xc + radius, n)
+    arc = yc - np.sqrt(np.maximum(radius**2 - (x - xc) ** 2, 0.0))
+    top = np.interp(x, *surface.T)
+    h = np.maximum(top - arc, 0.0)
+    dx = x[1] - x[0]  # uniform grid: the midpoint sums of the strips
+    area = float(np.sum(h) * dx)
+    return area, float(np.sum(h * x) * dx) / area, x[h > 0]
+
+
+def test_undrained_circle_equals_exact_moments():
+    """phi = 0: every moment method gives F = c R^2 theta / (W |x_G - x_c|) exactly; slices
+    agree to 0.1 % (60 slices: weights by the midpoint rule)."""
+    surface = np.array([[0.0, 0.0], [20.0, 10.0], [40.0, 10.0]])
+    centre, R, c, gamma = (8.0, 24.0), 24.5, 30.0, 18.0
+    area, xg, inside = _sliding_mass(surface, centre, R)
+    x0, x1 = inside.min(), inside.max()
+    theta = abs(math.asin((x1 - centre[0]) / R) - math.asin((x0 - centre[0]) / R))
+    exact = c * R**2 * theta / (gamma * area * abs(xg - centre[0]))
+    for method in ("bishop", "ordinary"):
+        F = ref.circle_factor(surface, ref.uniform_soil(gamma, c, 0.0), centre, R,
+                              method=method)
+        assert F == pytest.approx(exact, rel=1e-3)
+
+
+def test_griffiths_lane_critical_circle():
+    """Bishop & Morgenstern (1960) charts give 1.38 for c'/(gamma H) = 0.05, phi' = 20 deg,
+    2:1, firm base at toe level (D = 1): the search finds it within 1 % (two decimals of the
+    chart), on a circle that keeps above the base and cuts the face and the crest."""
+    surface = np.array([[0.0, 0.0], [20.0, 10.0], [32.0, 10.0]])
+    circle = ref.critical_circle(surface, ref.uniform_soil(20.0, 10.0, 20.0), floor=0.0)
+    assert circle.factor == pytest.approx(1.38, rel=0.01)
+    arc = circle.arc()
+    assert arc[:, 1].min() >= -1e-9  # never below the rigid base
+    assert 0.0 <= circle.entry < 20.0 < circle.exit <= 32.0
+    # the same circle evaluated alone gives the same F (the search's slices leave out the
+    # surface's vertices: 1e-4); the search found a minimum: moved circles are no better
+    again = ref.circle_factor(surface, ref.uniform_soil(20.0, 10.0, 20.0), circle.centre,
+                              circle.radius, floor=0.0)
+    assert again == pytest.approx(circle.factor, rel=1e-4)
+    for dx, dy, dr in ((0.5, 0, 0), (0, 0.5, 0), (0, 0, 0.5), (0, 0, -0.5)):
+        moved = ref.circle_factor(surface, ref.uniform_soil(20.0, 10.0, 20.0),
+                                  (circle.centre[0] + dx, circle.centre[1] + dy),
+                                  circle.radius + dr, floor=0.0)
+        assert moved >= again * (1.0 - 1e-4)
+
+
+def test_slip_circle_inputs():
+    soil = ref.uniform_soil(20.0, 10.0, 20.0)
+    with pytest.raises(ValueError, match="strictly increasing"):
+        ref.circle_factor(np.array([[0.0, 0.0], [0.0, 1.0]]), soil, (0.0, 5.0), 5.0)
+    with pytest.raises(ValueError, match="radius > 0"):
+        ref.circle_factor(FREDLUND_KRAHN, soil, (120.0, 90.0), -1.0)
+    with pytest.raises(ValueError, match="method"):
+        ref.circle_factor(FREDLUND_KRAHN, soil, (120.0, 90.0), 80.0, method="spencer")
+    # a circle in the air, or through the floor, is not a slip surface
+    assert ref.circle_factor(FREDLUND_KRAHN, soil, (120.0, 200.0), 10.0) == math.inf
+    assert ref.circle_factor(FREDLUND_KRAHN, soil, (120.0, 90.0), 80.0, floor=15.0) == math.inf
+
+
+def test_critical_circle_of_a_berm_does_not_depend_on_the_grid():
+    """A 3 m berm at 1:1 in front of a 1:3 slope: the critical circle is a small one at the
+    berm toe, found the same (to 1e-6) whatever the search grid: entries at the surface's
+    corners and chords on a log scale catch small circles."""
+    surface = np.array([[-40.0, 0.0], [-20.0, 0.0], [-17.0, 3.0], [-10.0, 3.0], [20.0, 13.0],
+                        [40.0, 13.0]])
+    soil = ref.uniform_soil(20.0, 5.0, 30.0)
+    found = [ref.critical_circle(surface, soil, floor=-10.0, grid=g) for g in (24, 40, 60)]
+    assert found[0].entry == pytest.approx(-20.0, abs=0.05)  # through the berm toe
+    assert found[0].exit < -10.0  # out on the berm top: a berm slip, not the main slope
+    for circle in found[1:]:
+        assert circle.factor == pytest.approx(found[0].factor, rel=1e-6)

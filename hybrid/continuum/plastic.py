@@ -6,10 +6,24 @@ shared kernel (:mod:`hybrid.constitutive.mohr_coulomb`) from the converged stres
 previous step and the strain increment eps(Du); its consistent tangent forms the Jacobian.
 
 Globalisation, for non-associated flow (psi < phi) where plain Newton stalls:
-  * a backtracking line search on the residual norm (step halved up to ``line_search`` times);
-  * adaptive step cutting: a step that does not converge in ``max_iterations`` is restarted
-    with half the increment, down to ``min_increment``; then the structure is taken as
-    collapsed and the analysis stops with the last converged state (collapse is a result).
+  * a safeguarded Newton step: the full step is taken unless it raises the residual norm more
+    than ``residual_growth`` (10) times, then it is halved up to ``line_search`` times
+    (non-smooth Newton, with points changing return region between iterates, often passes
+    through a larger residual on its way to convergence; a strict decrease test makes it
+    crawl);
+  * an increment whose residual grows ``divergence`` (1e5) times its first value is abandoned
+    at once (the iterate has found a mechanism of the trial state: a smaller increment is
+    needed, not more iterations);
+  * an increment that converges but moves a node by more than ``max_displacement`` (default
+    half the smallest cell edge) is rejected like one that does not converge: beyond that the
+    small-strain solution no longer describes the geometry, and at a collapse the amplitude
+    of the mechanism is indeterminate (Newton may return any of them);
+  * adaptive increments (:class:`IncrementControl`): an increment that does not converge is
+    restarted from the last converged state with half its size, down to ``min_increment``
+    times the requested one; after each converged increment the size grows by ``growth``
+    (1.5), up to the requested one. A stage that cannot go on is returned as an incomplete
+    :class:`Analysis` holding the last converged factor: the caller decides whether that is
+    the answer (a collapse load) or an error (:meth:`Analysis.require`).
 Convergence: ||R|| <= ``tolerance`` max(||f_ref||, 1) on the free dofs, where f_ref is the
 internal force vector of the current stress state (scale-free).
 """
@@ -17,6 +31,7 @@ internal force vector of the current stress state (scale-free).
 from __future__ import annotations
 
 import logging
+import math
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
@@ -41,10 +56,12 @@ from hybrid.continuum.fields import (
 from hybrid.continuum.quadrature import QuadratureSpace, evaluate_at_points
 from hybrid.continuum.solver import lu_solver
 from hybrid.continuum.state import ContinuumState
+from hybrid.errors import StageIncomplete
 from hybrid.materials import Material
 from hybrid.model import Model
 
-__all__ = ["NewtonOptions", "PlasticSolver", "StepRecord", "material_table"]
+__all__ = ["Analysis", "IncrementControl", "NewtonOptions", "PlasticSolver", "StepRecord",
+           "material_table", "plateau_rise", "runaway_ratio"]
 
 log = logging.getLogger(__name__)
 
@@ -65,20 +82,78 @@ def material_table(materials: Sequence[Material], strength_factor: float = 1.0) 
 
 @dataclass(frozen=True)
 class NewtonOptions:
-    """Newton settings (see the module docstring for the criteria)."""
+    """Newton and increment settings (see the module docstring for the criteria).
+
+    Attributes:
+        tolerance: relative residual norm at convergence [-].
+        max_iterations: Newton iterations per increment.
+        line_search: halvings of the Newton step at most.
+        residual_growth: a Newton step raising the residual norm more than this factor is
+            halved [-].
+        divergence: an increment whose residual norm exceeds this multiple of its first is
+            abandoned [-].
+        min_increment: smallest increment, as a fraction of the requested one [-].
+        max_increment: cap on the load-factor increment of :meth:`PlasticSolver.ramp`.
+        growth: factor on the increment after a converged one (1: no regrowth).
+        max_displacement: largest nodal displacement of one increment [m] (None: half the
+            smallest cell edge of the mesh).
+    """
 
     tolerance: float = 1e-8
     max_iterations: int = 25
     line_search: int = 4
+    residual_growth: float = 10.0
+    divergence: float = 1e5
     min_increment: float = 1e-3
     max_increment: float | None = None
-    elastic_iterations: int = 300
+    growth: float = 1.5
+    max_displacement: float | None = None
 
     def __post_init__(self) -> None:
         if not 0 < self.tolerance < 1:
             raise ValueError(f"Newton tolerance {self.tolerance} must be in (0, 1)")
         if self.max_iterations < 1:
             raise ValueError("Newton max_iterations must be >= 1")
+        if not 0 < self.min_increment <= 1:
+            raise ValueError(f"Newton min_increment {self.min_increment} must be in (0, 1]")
+        if self.line_search < 0:
+            raise ValueError("Newton line_search must be >= 0")
+        if not 1 <= self.growth <= 4:
+            raise ValueError(f"Newton growth {self.growth} must be in [1, 4]")
+        if self.max_displacement is not None and not self.max_displacement > 0:
+            raise ValueError(f"Newton max_displacement {self.max_displacement} must be > 0 m")
+        if not 1 <= self.residual_growth < self.divergence:
+            raise ValueError("Newton residual_growth must be >= 1 and below divergence")
+
+
+@dataclass
+class IncrementControl:
+    """Adaptive increment size: halved after a failure, grown after a success.
+
+    ``size`` is the current signed increment; it never exceeds ``largest`` in magnitude and
+    the control gives up (``cut`` returns False) when it falls below ``smallest``.
+    """
+
+    size: float
+    largest: float
+    smallest: float
+    growth: float = 1.5
+    cuts: int = 0
+
+    @classmethod
+    def of(cls, size: float, options: NewtonOptions) -> IncrementControl:
+        """Start at ``size``, never above it, down to ``options.min_increment`` of it."""
+        return cls(size, abs(size), abs(size) * options.min_increment, options.growth)
+
+    def grow(self) -> None:
+        """After a converged increment."""
+        self.size = float(np.sign(self.size)) * min(abs(self.size) * self.growth, self.largest)
+
+    def cut(self) -> bool:
+        """After a failed increment: halve; False when below the smallest size."""
+        self.cuts += 1
+        self.size *= 0.5
+        return abs(self.size) >= self.smallest
 
 
 @dataclass
@@ -89,6 +164,7 @@ class StepRecord:
     iterations: int
     residuals: list[float]
     monitors: dict[str, float] = field(default_factory=dict)
+    strength_factor: float = 1.0
 
 
 class PlasticSolver:
@@ -97,7 +173,8 @@ class PlasticSolver:
     The model's surface loads and prescribed displacements are multiplied by the load
     factor lambda; self-weight is a separate factor (``gravity``) switched on by
     :meth:`apply_gravity`. Cells can be switched off (staged construction) with
-    :meth:`set_active`.
+    :meth:`set_active`. The strengths in force are those of the materials divided by
+    ``strength_factor`` (:meth:`set_strength_factor`; 1 by default).
     """
 
     def __init__(self, model: Model, *, degree: int = 2,
@@ -124,10 +201,8 @@ class PlasticSolver:
                        np.zeros(self.npoints), np.zeros(self.npoints, dtype=np.int8))
         materials = [model.materials[k] for k in model.material_names]
         self.materials = materials
+        self.strength_factor = 1.0  # c and tan(phi) of the materials divided by this [-]
         self.table = material_table(materials)
-        # the elastic-stiffness fallback is for non-associated flow; with psi = phi full
-        # Newton with step cutting is cheaper (measured: one fallback step cost 300 iterations)
-        self.non_associated = any(m.is_plastic and m.psi < m.phi for m in materials)
         self.point_material = np.repeat(model.material_ids(), nqp).astype(np.int64)
         self.active = np.ones(n, dtype=bool)
         self.load_factor = 0.0
@@ -150,30 +225,36 @@ class PlasticSolver:
             ufl.inner(ufl.dot(self.tangent_q, strain(w)), strain(v)) * disc.dx)
         self._strain_expr = fem.Expression(strain(self.Du), disc.points)
         self._cells = np.arange(n, dtype=np.int32)
+        x, cells = model.mesh.cell_vertices()
+        edges = np.linalg.norm(x[cells] - x[np.roll(cells, -1, axis=1)], axis=-1)
+        smallest = V.mesh.comm.allreduce(float(edges.min(initial=np.inf)), op=MPI.MIN)
+        self.max_displacement = (0.5 * smallest if self.options.max_displacement is None
+                                 else self.options.max_displacement)  # per increment [m]
         self.A = fem_petsc.create_matrix(self._jacobian_form)
         self.b = fem_petsc.create_vector(self._residual_form)
         self.ksp = lu_solver(V.mesh.comm, self.A)
         self._inactive_bcs: list[Any] = []
         self.iterations_total = 0
         self.wall_time = 0.0
-        self._last_increment: tuple[np.ndarray, float] | None = None
+        # the last converged increment, what drove it ("load" or "strength") and its size:
+        # scaled, it is the first iterate of the next increment of the same kind
+        self._last_increment: tuple[np.ndarray, str, float] | None = None
 
     # --- constitutive update -------------------------------------------------------------
-    def _update_stress(self, want_tangent: bool = True) -> None:
+    def _update_stress(self) -> None:
         """Kernel call: trial stress/tangent from the converged state and eps(Du)."""
         deps = self._strain_expr.eval(self._cells).reshape(self.npoints, 4)
         stress, tangent, pstrain, yielded = self._trial
         pstrain[:] = self.plastic_strain
         mohr_coulomb_update(self.stress, deps, self.point_material, self.table, stress,
-                            tangent, pstrain, yielded, want_tangent)
+                            tangent, pstrain, yielded, True)
         if not self.active.all():
             off = np.repeat(~self.active, self.disc.num_points)
             stress[off] = 0.0
-            tangent[off] = 1e-9 * tangent[off] if want_tangent else tangent[off]
+            tangent[off] = 1e-9 * tangent[off]
             yielded[off] = 0
         self.sspace.assign(self.stress_q, stress)
-        if want_tangent:
-            self.tspace.assign(self.tangent_q, tangent)
+        self.tspace.assign(self.tangent_q, tangent)
 
     def _residual(self) -> float:
         """Assemble R into self.b (free dofs, BC rows zeroed) and return its norm."""
@@ -193,23 +274,19 @@ class PlasticSolver:
 
     # --- one load step --------------------------------------------------------------------
     def _newton(self, d_lambda: float, d_gravity: float,
-                elastic: bool = False) -> tuple[bool, list[float]]:
+                guess: np.ndarray | None) -> tuple[bool, list[float]]:
         """Solve one increment; on failure the trial state is discarded by the caller.
 
-        ``elastic``: iterate with the elastic stiffness (factorised once) instead of the
-        consistent tangent: linear but robust convergence, the fallback when full Newton
-        cycles between return regions (non-associated flow near collapse).
+        ``guess``: first iterate of the displacement increment (None: zero); the prescribed
+        increments are set on the Dirichlet dofs.
         """
         opts = self.options
         self._lam.value = self.load_factor + d_lambda
         self._grav.value = self.gravity_factor + d_gravity
         self.bc.scale(d_lambda)
         bcs = self.bc.bcs + self._inactive_bcs
-        # first iterate: the previous increment scaled to this one (a mechanism repeats
-        # itself near collapse), then the prescribed increments on the Dirichlet dofs
-        prev = self._last_increment
-        if prev is not None and prev[1] != 0.0 and d_gravity == 0.0:
-            self.Du.x.array[:] = prev[0] * (d_lambda / prev[1])
+        if guess is not None:
+            self.Du.x.array[:] = guess
         else:
             self.Du.x.array[:] = 0.0
         fem.set_bc(self.Du.x.array, bcs)
@@ -217,36 +294,31 @@ class PlasticSolver:
         self.bc.scale(0.0)
         self._bcs_hom = bcs
         residuals: list[float] = []
-        want_tangent = not elastic
-        if elastic:
-            self.tspace.assign(self.tangent_q, self._elastic_tangent())
-            self.A.zeroEntries()
-            fem_petsc.assemble_matrix(self.A, self._jacobian_form, bcs=bcs)
-            self.A.assemble()
-        self._update_stress(want_tangent)
+        self._update_stress()
         norm = self._residual()
         scale = max(self._internal_norm(), float(np.abs(self._lam.value)) + 1.0, 1.0)
-        for _ in range(opts.elastic_iterations if elastic else opts.max_iterations):
+        for _ in range(opts.max_iterations):
             residuals.append(norm)
             if not np.isfinite(norm):
                 return False, residuals
             if norm <= opts.tolerance * scale:
                 return True, residuals
-            if not elastic:
-                self.A.zeroEntries()
-                fem_petsc.assemble_matrix(self.A, self._jacobian_form, bcs=bcs)
-                self.A.assemble()
+            if norm > opts.divergence * residuals[0]:
+                return False, residuals
+            self.A.zeroEntries()
+            fem_petsc.assemble_matrix(self.A, self._jacobian_form, bcs=bcs)
+            self.A.assemble()
             self.ksp.solve(self.b, self.delta.vector)
             if self.ksp.getConvergedReason() < 0:
                 return False, residuals
             self.delta.x.scatter_forward()
             step = 1.0
             base = self.Du.x.array.copy()
-            for _ in range(opts.line_search + 1):
+            for halvings in range(opts.line_search + 1):
                 self.Du.x.array[:] = base - step * self.delta.x.array
-                self._update_stress(want_tangent)
+                self._update_stress()
                 trial = self._residual()
-                if elastic or trial < norm or step < 2.0 ** -opts.line_search:
+                if trial <= opts.residual_growth * norm or halvings == opts.line_search:
                     break
                 step *= 0.5
             norm = trial
@@ -254,80 +326,107 @@ class PlasticSolver:
         residuals.append(norm)
         return norm <= opts.tolerance * scale, residuals
 
-    def _commit(self, d_lambda: float, d_gravity: float, iterations: int,
-                residuals: list[float]) -> StepRecord:
+    def _largest_increment(self) -> float:
+        """Largest nodal displacement of the current increment Du [m] (all ranks)."""
+        local = float(np.max(np.linalg.norm(self.Du.x.array.reshape(-1, 2), axis=1),
+                             initial=0.0))
+        return self.u.function_space.mesh.comm.allreduce(local, op=MPI.MAX)
+
+    def _commit(self, kind: str | None, size: float, iterations: int,
+                residuals: list[float], d_lambda: float, d_gravity: float) -> StepRecord:
         stress, _, pstrain, yielded = self._trial
         self.stress[:] = stress
         self.plastic_strain[:] = pstrain
         self.yielded[:] = yielded
         self.u.x.array[:] += self.Du.x.array
         self.u.x.scatter_forward()
-        self._last_increment = (self.Du.x.array.copy(), d_lambda) if d_gravity == 0 else None
+        self._last_increment = (None if kind is None or size == 0.0
+                                else (self.Du.x.array.copy(), kind, size))
         self.load_factor += d_lambda
         self.gravity_factor += d_gravity
         record = StepRecord(self.load_factor, iterations, residuals,
-                            {k: f() for k, f in self.monitors.items()})
+                            {k: f() for k, f in self.monitors.items()}, self.strength_factor)
         self.history.append(record)
         return record
 
-    def step(self, d_lambda: float = 0.0, d_gravity: float = 0.0) -> StepRecord | None:
-        """Apply one increment of load factor and/or gravity; None if Newton failed."""
+    def step(self, d_lambda: float = 0.0, d_gravity: float = 0.0, *,
+             strength_factor: float | None = None) -> StepRecord | None:
+        """Apply one increment of load factor and/or gravity, or move the strength factor to
+        ``strength_factor``, from the converged state; None (state unchanged) if no
+        equilibrium was found.
+
+        The first iterate is the previous converged increment of the same kind (load or
+        strength) scaled to this one: near a collapse the mechanism repeats itself.
+        """
         start = time.perf_counter()
-        ok, residuals = self._newton(d_lambda, d_gravity)
-        if not ok and self.options.elastic_iterations > 0 and self.non_associated:
-            ok, residuals = self._newton(d_lambda, d_gravity, elastic=True)
+        old_factor = self.strength_factor
+        kind, size = None, 0.0
+        if strength_factor is not None and strength_factor != old_factor:
+            if d_lambda != 0.0 or d_gravity != 0.0:
+                raise ValueError("step: change the strength or the loads, not both at once")
+            self.set_strength_factor(strength_factor)
+            kind, size = "strength", strength_factor - old_factor
+        elif d_gravity == 0.0 and d_lambda != 0.0:
+            kind, size = "load", d_lambda
+        prev = self._last_increment
+        guess = (prev[0] * (size / prev[2]) if prev is not None and kind == prev[1]
+                 else None)
+        ok, residuals = self._newton(d_lambda, d_gravity, guess)
+        if ok and self._largest_increment() > self.max_displacement:
+            ok = False  # a mechanism of arbitrary amplitude, not a small-strain state
         self.wall_time += time.perf_counter() - start
         if not ok:
             self._lam.value = self.load_factor
             self._grav.value = self.gravity_factor
+            if self.strength_factor != old_factor:
+                self.set_strength_factor(old_factor)
             self.sspace.assign(self.stress_q, self.stress)
             return None
-        return self._commit(d_lambda, d_gravity, len(residuals) - 1, residuals)
+        return self._commit(kind, size, len(residuals) - 1, residuals, d_lambda, d_gravity)
 
     def ramp(self, target: float, steps: int, *, gravity: bool = False,
-             stop: Callable[[PlasticSolver], bool] | None = None) -> Analysis:
-        """Raise the load factor (or the gravity factor) to ``target`` in ``steps`` equal
-        increments, cutting a failing increment in half down to ``min_increment`` x the first.
+             stop: Callable[[PlasticSolver], bool] | None = None,
+             min_increment: float | None = None) -> Analysis:
+        """Raise the load factor (or the gravity factor) to ``target`` in increments of
+        (target - current) / ``steps`` (:class:`IncrementControl`: halved when Newton fails,
+        down to ``min_increment`` of it, regrown by ``growth`` after each converged one).
 
-        Returns an :class:`Analysis` telling whether the target was reached (``collapsed``
-        False) and the last converged factor.
+        Returns an :class:`Analysis`: the target reached (``completed``) or the last
+        converged factor; ``stop(solver)`` True after a converged increment ends the ramp
+        there (completed). ``min_increment`` replaces the option of the same name.
         """
+        if steps < 1:
+            raise ValueError(f"ramp: steps = {steps} must be >= 1")
         current = self.gravity_factor if gravity else self.load_factor
+        stage = "self-weight" if gravity else "load"
         size = (target - current) / steps
         if self.options.max_increment is not None:
             size = float(np.sign(size)) * min(abs(size), self.options.max_increment)
-        smallest = abs(size) * self.options.min_increment
-        cuts = 0
+        control = IncrementControl.of(size, self.options)
+        if min_increment is not None:
+            control.smallest = abs(size) * min_increment
         while abs(target - current) > 1e-12 * max(1.0, abs(target)):
-            inc = size if abs(size) < abs(target - current) else target - current
+            inc = control.size if abs(control.size) < abs(target - current) else target - current
             record = self.step(0.0, inc) if gravity else self.step(inc, 0.0)
             if record is None:
-                cuts += 1
-                size *= 0.5
-                if abs(size) < smallest:
-                    log.info("collapse: no equilibrium beyond factor %.6g", current)
-                    return Analysis(False, current, cuts)
+                if not control.cut():
+                    log.info("%s: no equilibrium beyond factor %.6g", stage, current)
+                    return Analysis(False, current, control.cuts, stage, target)
                 continue
+            control.grow()
             current = self.gravity_factor if gravity else self.load_factor
             if stop is not None and stop(self):
                 break
-        return Analysis(True, current, cuts)
-
-    def _elastic_tangent(self) -> np.ndarray:
-        """Plane-strain elastic matrix D (Voigt, engineering shear) at every point."""
-        K, G = self.table[self.point_material, 0], self.table[self.point_material, 1]
-        lam = K - 2.0 * G / 3.0
-        D = np.zeros((self.npoints, 4, 4))
-        for i in range(3):
-            D[:, i, :3] = lam[:, None]
-            D[:, i, i] += 2.0 * G
-        D[:, 3, 3] = G
-        return D
+        return Analysis(True, current, control.cuts, stage, target)
 
     # --- gravity, stages, strength ----------------------------------------------------------
-    def apply_gravity(self, steps: int = 1) -> Analysis:
-        """Switch the self-weight on in ``steps`` increments (elasto-plastic)."""
-        return self.ramp(1.0, steps, gravity=True)
+    def apply_gravity(self, steps: int = 1, *, min_increment: float | None = None) -> Analysis:
+        """Switch the self-weight on in ``steps`` increments (elasto-plastic).
+
+        The result must be checked (``.require()`` or ``.completed``): an incomplete gravity
+        stage leaves a half-loaded state. ``min_increment``: as :meth:`ramp`.
+        """
+        return self.ramp(1.0, steps, gravity=True, min_increment=min_increment)
 
     def set_initial_stress(self, stress: np.ndarray) -> None:
         """Start from a given stress state (n_cells, nqp, 4) [kPa], e.g. a K0 state."""
@@ -407,25 +506,30 @@ class PlasticSolver:
             self._active_fn.x.array[dofs0] = weight
             self._active_fn.x.scatter_forward()
 
-        size = 1.0 / steps
-        smallest = size * self.options.min_increment
-        placed, cuts = 0.0, 0
+        stage = "lift " + ", ".join(f"'{g}'" for g in groups)
+        if steps < 1:
+            raise ValueError(f"activate: steps = {steps} must be >= 1")
+        control = IncrementControl.of(1.0 / steps, self.options)
+        placed = 0.0
         while placed < 1.0 - 1e-12:
-            trial = min(placed + size, 1.0)
+            trial = min(placed + control.size, 1.0)
             weigh(trial)
             if self.step() is None:
-                cuts += 1
-                size *= 0.5
-                if size < smallest:
+                if not control.cut():
                     weigh(placed)
-                    log.info("collapse: no equilibrium beyond %.4g of the lift's weight", placed)
-                    return Analysis(False, placed, cuts)
+                    log.info("%s: no equilibrium beyond %.4g of its weight", stage, placed)
+                    return Analysis(False, placed, control.cuts, stage)
                 continue
+            control.grow()
             placed = trial
-        return Analysis(True, 1.0, cuts)
+        return Analysis(True, 1.0, control.cuts, stage)
 
     def set_strength_factor(self, factor: float) -> None:
-        """Divide c and tan(phi), tan(psi) of every plastic material by ``factor``."""
+        """Divide c and tan(phi), tan(psi) of every plastic material by ``factor`` (the
+        stress state is kept: call :meth:`step` to find the equilibrium at it)."""
+        if not (math.isfinite(factor) and factor > 0):
+            raise ValueError(f"strength factor {factor!r} must be a finite number > 0")
+        self.strength_factor = float(factor)
         self.table = material_table(self.materials, factor)
 
     def reset_displacement(self) -> None:
@@ -434,14 +538,20 @@ class PlasticSolver:
 
     # --- checkpoints of the state (for strength reduction, bisection) -------------------
     def snapshot(self) -> tuple[np.ndarray, ...]:
+        """Copies of the converged state (stresses, plastic state, displacement, factors)."""
         return (self.stress.copy(), self.plastic_strain.copy(), self.yielded.copy(),
-                self.u.x.array.copy(), np.array([self.load_factor, self.gravity_factor]))
+                self.u.x.array.copy(),
+                np.array([self.load_factor, self.gravity_factor, self.strength_factor]))
 
     def restore(self, snap: tuple[np.ndarray, ...]) -> None:
+        """Go back to a :meth:`snapshot` (the strength factor included)."""
         self.stress[:], self.plastic_strain[:], self.yielded[:] = snap[0], snap[1], snap[2]
         self.u.x.array[:] = snap[3]
+        self.u.x.scatter_forward()
         self.load_factor, self.gravity_factor = float(snap[4][0]), float(snap[4][1])
         self._lam.value, self._grav.value = self.load_factor, self.gravity_factor
+        if float(snap[4][2]) != self.strength_factor:
+            self.set_strength_factor(float(snap[4][2]))
         self._last_increment = None
         self.sspace.assign(self.stress_q, self.stress)
 
@@ -473,16 +583,109 @@ class PlasticSolver:
                 "dofs": self.disc.V.dofmap.index_map.size_global * 2,
                 "steps": len(self.history), "newton_iterations": self.iterations_total,
                 "wall_time_s": self.wall_time, "load_factor": self.load_factor,
-                "gravity_factor": self.gravity_factor}
+                "gravity_factor": self.gravity_factor, "strength_factor": self.strength_factor}
         return ContinuumState(self.model, self.disc, u, self.stress.reshape(n, nqp, 4).copy(),
                               self.plastic_strain.reshape(n, nqp).copy(),
-                              self.yielded.reshape(n, nqp).copy(), info, self.active.copy())
+                              self.yielded.reshape(n, nqp).copy(), info, self.active.copy(),
+                              self.strength_factor)
 
 
 @dataclass
 class Analysis:
-    """Outcome of a ramp: ``completed`` False means collapse before the target."""
+    """Outcome of a stage: the target reached (``completed``) or the last converged factor.
+
+    Attributes:
+        completed: True when the stage reached its target.
+        factor: the last factor with equilibrium (load factor, fraction of the self-weight or
+            of the lift's weight).
+        cuts: increments halved on the way.
+        stage: what was applied, in words ("self-weight", "load", "lift 'fill_2'").
+        target: the factor asked for.
+    """
 
     completed: bool
     factor: float
     cuts: int
+    stage: str = "load"
+    target: float = 1.0
+
+    def message(self) -> str:
+        """What happened, in a sentence a user can act on."""
+        if self.completed:
+            return f"{self.stage}: completed ({self.target:.6g})"
+        if self.stage == "self-weight":
+            return (f"self-weight carried up to {100 * self.factor:.0f} %: no equilibrium "
+                    "under the full weight at these strengths (unstable under gravity, "
+                    "F < 1, or Newton did not converge); run the strength search from a "
+                    "stronger state (factor_of_safety(..., gravity_steps=...)) or check the "
+                    "strengths and supports")
+        if self.stage.startswith("lift"):
+            return (f"{self.stage} placed with {100 * self.factor:.0f} % of its weight: no "
+                    "equilibrium beyond (the structure collapses during this lift, or Newton "
+                    "did not converge)")
+        return (f"{self.stage} factor {self.factor:.6g} of the target {self.target:.6g}: no "
+                "equilibrium beyond (collapse, or Newton did not converge)")
+
+    def require(self) -> Analysis:
+        """Return self when completed; otherwise raise :class:`StageIncomplete`."""
+        if not self.completed:
+            raise StageIncomplete(self.message())
+        return self
+
+    def require_limit(self, displacement: Sequence[float], force: Sequence[float], *,
+                      jump: float = 10.0) -> Analysis:
+        """A displacement-controlled push (a rigid footing, a wall moved): complete, or
+        stopped on the limit load.
+
+        An incomplete push counts as having found the limit when the structure's stiffness
+        has fallen: d(force)/d(displacement) of the last step below 1/``jump`` of the first
+        (or negative: the force falls); otherwise Newton stopped before the limit and
+        :class:`StageIncomplete` is raised.
+        """
+        if self.completed:
+            return self
+        ratio = runaway_ratio(force, displacement)
+        if ratio >= jump or ratio < 0.0:
+            return self
+        raise StageIncomplete(
+            f"{self.message()}; the force was still rising (stiffness of the last step "
+            f"1/{ratio:.3g} of the first, not below 1/{jump:g}): no limit load was reached. "
+            "Use more steps or a finer mesh")
+
+    def require_collapse(self, load: Sequence[float], displacement: Sequence[float], *,
+                         jump: float = 10.0) -> Analysis:
+        """A load-controlled ramp stopped short of its target: a collapse only if the
+        displacement ran away (:func:`runaway_ratio` of the last step >= ``jump``)."""
+        if self.completed:
+            return self
+        ratio = runaway_ratio(load, displacement)
+        if ratio >= jump:
+            return self
+        raise StageIncomplete(
+            f"{self.message()}; the displacement did not run away (d u / d load of the last "
+            f"step {ratio:.3g} times that of the first, below {jump:g}): Newton did not "
+            "converge before a collapse. Use more steps or a finer mesh")
+
+
+def plateau_rise(x: Sequence[float], y: Sequence[float], tail: float = 0.2) -> float:
+    """Rise of ``y`` over the last ``tail`` of the range of ``x``, relative to its end value
+    (0 on a plateau; ``y`` at the start of the tail is the first point inside it)."""
+    xa, ya = np.asarray(x, float), np.asarray(y, float)
+    if len(xa) < 2 or ya[-1] == 0.0:
+        return math.inf
+    inside = xa >= xa[-1] - tail * (xa[-1] - xa[0])
+    return float((ya[-1] - ya[inside][0]) / abs(ya[-1]))
+
+
+def runaway_ratio(factor: Sequence[float], displacement: Sequence[float]) -> float:
+    """d(displacement)/d(factor) of the last step over that of the first (1 with fewer than
+    three points; inf when the first step did not move and the last did; negative when the
+    factor fell in the last step): at a collapse the displacement runs away."""
+    f, u = np.asarray(factor, float), np.asarray(displacement, float)
+    if len(f) < 3:
+        return 1.0
+    first = (u[1] - u[0]) / (f[1] - f[0])
+    last = (u[-1] - u[-2]) / (f[-1] - f[-2])
+    if first <= 0.0:
+        return math.inf if last > 0.0 else 1.0
+    return float(last / first)

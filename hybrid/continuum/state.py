@@ -32,6 +32,8 @@ class ContinuumState:
         velocity: nodal velocities for a dynamic start (zero after a static solve) [m/s].
         info: solver figures (iterations, load factors, timings).
         active: (n_owned_cells,) True for cells in place (staged construction); None: all.
+        strength_factor: the strengths in force are the materials' divided by this (c and
+            tan(phi), as in a strength-reduction analysis; 1: the materials as given).
     """
 
     model: Model
@@ -42,6 +44,14 @@ class ContinuumState:
     yielded: np.ndarray
     info: dict[str, Any] = field(default_factory=dict)
     active: np.ndarray | None = None
+    strength_factor: float = 1.0
+
+    @property
+    def materials_in_force(self) -> list[Any]:
+        """The model's materials (in ``material_names`` order) at the strengths in force."""
+        return [m.weakened(self.strength_factor)
+                if m.is_plastic and self.strength_factor != 1.0 else m
+                for m in (self.model.materials[k] for k in self.model.material_names)]
 
     @property
     def mesh(self) -> Any:

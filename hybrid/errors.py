@@ -1,0 +1,13 @@
+"""Errors a case reports to its user as one message (``hybrid run`` prints it, exit code 3)."""
+
+from __future__ import annotations
+
+__all__ = ["StageIncomplete"]
+
+
+class StageIncomplete(RuntimeError):
+    """An analysis stage (gravity, a load ramp, a lift, a strength search) did not complete.
+
+    No figure may be computed from the half-loaded state it leaves: the message says how far
+    the stage went and what to do.
+    """
