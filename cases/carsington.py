@@ -358,11 +358,9 @@ def continuum_phase(p: Parameters, out: Path) -> ContinuumPhase:
     if safety is not None:
         lift = max(st["lift"] for st in stages if "factor_of_safety" in st)
         summary["factor_of_safety"] = {
-            "F": safety.factor, "bracket": safety.bracket, "after_lift": lift,
+            **safety.as_dict(), "after_lift": lift,
             "fill_level_m_OD": tops[lift - 1], "strength_factor_of_construction":
                 p.strength_factor,
-            "trials": [{"F": f, "equilibrium": ok, "iterations": it}
-                       for f, ok, it in safety.trials],
             "yellow_clay_yielded_fraction": _yielded_fraction(safety.state, base_mesh,
                                                               "yellow_clay"),
             "core_yielded_fraction": _yielded_fraction(safety.state, base_mesh, "core"),

@@ -67,7 +67,7 @@ class Parameters:
     meshes: str = "16"  # elements per slope height, one analysis each (e.g. "16,24,32") [-]
     degree: int = 2  # displacement order (P2 triangles)
     gravity_steps: int = 4  # increments of the self-weight switch-on [-]
-    fos_initial_increment: float = 0.1  # first relative increase of F [-]
+    fos_initial_increment: float = 0.05  # first relative increase of F [-]
     fos_max_increment: float = 0.25  # largest relative increase of F [-]
     fos_tolerance: float = 0.005  # F bracketed to this relative width [-]
     newton_tolerance: float = 1e-8  # relative residual norm at convergence [-]

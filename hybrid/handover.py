@@ -242,8 +242,7 @@ def to_discrete(state: Any, *, region: Region | None = None,
     if data is None:
         return Handover(None, np.zeros(0, bool), np.zeros(0, bool), np.zeros((0, 2)))
     factor = state.strength_factor if strength_factor is None else strength_factor
-    materials = [m.weakened(factor) if m.is_plastic and factor != 1.0 else m
-                 for m in (state.model.materials[k] for k in state.model.material_names)]
+    materials = state.materials_at(factor)
     if gravity is None:
         gravity = state.info.get("gravity_factor", 1.0 if state.info.get("solver") == "elastic"
                                  else 0.0) > 0

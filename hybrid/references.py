@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -472,12 +472,13 @@ def _slices(xm: np.ndarray, b: np.ndarray, top: np.ndarray, xc: np.ndarray, yc: 
                                                 - (xd - xc[:, None, None]) ** 2, 0.0))
     blocked = np.any(np.isinf(soil(xd, yd)[1]), axis=(1, 2))
     base = yc[:, None] - np.sqrt(np.maximum(R[:, None] ** 2 - (xm - xc[:, None]) ** 2, 0.0))
-    height = np.maximum(top - base, 0.0)
+    height = np.maximum(top - base, 0.0)  # 0 where the arc runs in the air
     t = (np.arange(column_points) + 0.5) / column_points
     ys = base[..., None] + t * height[..., None]
     gamma = soil(np.broadcast_to(xm[..., None], ys.shape), ys)[0].mean(axis=-1)
     weight = b * height * gamma  # [kN/m]
     _, c, phi = soil(xm, base)
+    c = np.where(height > 0.0, c, 0.0)  # no strength along the arc where it is in the air
     tan_phi = np.tan(np.radians(phi))
     lever = (xm - xc[:, None]) / R[:, None]
     sin_a = np.where(np.sum(weight * lever, axis=1) > 0, 1.0, -1.0)[:, None] * lever
@@ -490,17 +491,25 @@ def _slices(xm: np.ndarray, b: np.ndarray, top: np.ndarray, xc: np.ndarray, yc: 
     F = np.sum(c * b / cos_a + weight * cos_a * tan_phi, axis=1) / safe  # ordinary
     F = np.where(valid & np.isfinite(F) & (F > 0.0), F, 1.0)
     if method == "bishop":
-        loaded = weight > 0.0
         for _ in range(200):
             m_alpha = cos_a + sin_a * tan_phi / F[:, None]
-            valid &= ~np.any(loaded & (m_alpha < _M_ALPHA_MIN), axis=1)
             m_alpha = np.where(m_alpha > 0.0, m_alpha, 1.0)
             new = np.sum((c * b + weight * tan_phi) / m_alpha, axis=1) / safe
             done = np.all(np.abs(new - F) <= 1e-12 * np.abs(F))
             F = new
             if done:
                 break
+        # the m_alpha rule at the converged F, on the slices that carry soil
+        m_alpha = cos_a + sin_a * tan_phi / F[:, None]
+        valid &= ~np.any((weight > 0.0) & (m_alpha < _M_ALPHA_MIN), axis=1)
     return np.where(valid & np.isfinite(F), F, math.inf)
+
+
+def _lowest(x0: Any, x1: Any, xc: Any, yc: Any, R: Any) -> Any:
+    """Lowest level [m] of the lower arc between x0 and x1 (scalars or arrays)."""
+    near = np.minimum((x0 - xc) ** 2, (x1 - xc) ** 2)
+    inside = (x0 < xc) & (xc < x1)
+    return np.where(inside, yc - R, yc - np.sqrt(np.maximum(R * R - near, 0.0)))
 
 
 def circle_factor(surface: np.ndarray, soil: Soil, centre: tuple[float, float], radius: float,
@@ -532,9 +541,7 @@ def circle_factor(surface: np.ndarray, soil: Soil, centre: tuple[float, float], 
     if span is None:
         return math.inf
     x0, x1 = span
-    lowest = yc - R if x0 < xc < x1 else yc - math.sqrt(max(R * R - max(
-        (x0 - xc) ** 2, (x1 - xc) ** 2), 0.0))
-    if floor is not None and lowest < floor - 1e-9:
+    if floor is not None and _lowest(x0, x1, xc, yc, R) < floor - 1e-9:
         return math.inf
     inner = pts[(pts[:, 0] > x0) & (pts[:, 0] < x1), 0]
     edges = np.union1d(np.linspace(x0, x1, slices + 1), inner)
@@ -550,13 +557,16 @@ def critical_circle(surface: np.ndarray, soil: Soil, *, floor: float | None = No
     """The circle of least factor of safety (entry-and-exit search).
 
     Circles are parametrised by where they meet the ground (x_entry < x_exit, within
-    ``x_range``, default the whole surface) and the half-angle beta (5 to 90 deg) that the
+    ``x_range``, default the whole surface) and the half-angle beta (2 to 90 deg) that the
     arc subtends at its centre (centres above the ends: no overhanging arc). Every circle of
     a grid is evaluated with 40 equal slices: ``grid`` entries and the surface's corners
     (slope changes above 1 deg: toes, crests) as entries or exits, ``grid`` / 2 chord lengths
     from 1/64 of the range to all of it (log scale), 10 angles; the 40 best distinct ones are
-    ranked again with ``slices`` equal slices, and the 8 best refined by a pattern search
-    (steps from a tenth of the chord, halved down to 1e-5 of it), whose value is returned.
+    ranked again with ``slices`` equal slices plus the surface's vertices, and the 8 best
+    refined by a pattern search (steps from a tenth of the chord, halved down to 1e-5 of it,
+    restarted from where it stops while that still lowers F), whose value is returned: the F
+    of the arc between ``entry`` and ``exit``. A circle must leave the ground at both ends
+    (the circle just beyond them in the air).
     ``floor``, ``method``: as :func:`circle_factor`. Raises ValueError when no admissible
     circle exists.
     """
@@ -582,14 +592,20 @@ def critical_circle(surface: np.ndarray, soil: Soil, *, floor: float | None = No
         ok = ((lo <= xa) & (xa < xb) & (xb <= hi) & (beta >= beta_range[0])
               & (beta <= beta_range[1]) & (yc >= np.maximum(ya, yb) - 1e-9))
         if floor is not None:
-            inside = (xa < xc) & (xc < xb)
-            lowest = np.where(inside, yc - R, np.minimum(ya, yb))
-            ok &= lowest >= floor - 1e-9
+            ok &= _lowest(xa, xb, xc, yc, R) >= floor - 1e-9
+        # the arc leaves the ground at its ends: just outside them the circle is in the air
+        # (else the ground it cuts beyond an end belongs to the sliding mass too)
+        for x_end, side in ((xa, -1.0), (xb, 1.0)):
+            x = x_end + side * 1e-6 * width
+            arc = yc - np.sqrt(np.maximum(R * R - (x - xc) ** 2, 0.0))
+            ok &= (np.abs(x - xc) >= R) | (arc >= np.interp(x, *pts.T) - 1e-9 * width)
         return xc, yc, R, ok
 
-    def factors(P: np.ndarray, n: int = 40, column: int = 8) -> np.ndarray:
+    def factors(P: np.ndarray, n: int = 40, column: int = 8,
+                vertices: bool = False) -> np.ndarray:
         """F of the circles P (C, 3) with n equal slices between where they meet the
-        ground."""
+        ground (plus, with ``vertices``, the surface's vertices between them, as
+        :func:`circle_factor`: a slice then never straddles a toe or a crest)."""
         out = np.full(len(P), math.inf)
         with np.errstate(divide="ignore", invalid="ignore"):
             geometry = circles(P)
@@ -599,6 +615,9 @@ def critical_circle(surface: np.ndarray, soil: Soil, *, floor: float | None = No
                 continue
             q = P[k:k + 400][ok]
             edges = q[:, 0:1] + (q[:, 1:2] - q[:, 0:1]) * np.linspace(0.0, 1.0, n + 1)[None, :]
+            if vertices:  # vertices outside the arc collapse onto its ends: empty slices
+                inner = np.clip(pts[None, :, 0], q[:, 0:1], q[:, 1:2])
+                edges = np.sort(np.concatenate([edges, inner], axis=1), axis=1)
             xm = 0.5 * (edges[:, :-1] + edges[:, 1:])
             out[k + np.flatnonzero(ok)] = _method_of_slices(
                 xm, np.diff(edges, axis=1), np.interp(xm, *pts.T), xc[ok], yc[ok], R[ok],
@@ -606,7 +625,7 @@ def critical_circle(surface: np.ndarray, soil: Soil, *, floor: float | None = No
         return out
 
     def fine(P: np.ndarray) -> np.ndarray:
-        return factors(P, slices, 16)
+        return factors(P, slices, 16, vertices=True)
 
     # entries on a grid and at the surface's corners (toes, crests), chords on a log scale
     # (small and large circles alike), angles; circles also ending at a corner
@@ -640,20 +659,24 @@ def critical_circle(surface: np.ndarray, soil: Soil, *, floor: float | None = No
     if not starts:
         raise ValueError("no admissible slip circle: check the surface, the floor and x_range")
     moves = np.array([[1, 0, 0], [-1, 0, 0], [0, 1, 0], [0, -1, 0], [0, 0, 1], [0, 0, -1],
-                      [1, 1, 0], [-1, -1, 0]], dtype=float)
+                      [1, 1, 0], [-1, -1, 0], [1, -1, 0], [-1, 1, 0]], dtype=float)
     best_p, best_f = starts[0], math.inf
     for p in starts:
         f = float(fine(p[None, :])[0])
-        size = 0.1 * (p[1] - p[0])  # steps on the scale of the circle
-        step = np.array([size, size, math.radians(5.0)])
-        while step[0] > 1e-4 * size:
-            trial = p[None, :] + moves * step[None, :]
-            ft = fine(trial)
-            k = int(np.argmin(ft))
-            if ft[k] < f:
-                p, f = trial[k], float(ft[k])
-            else:
-                step *= 0.5
+        for _ in range(4):  # restarted from where it stopped: a corner of F can stall it
+            start_f = f
+            size = 0.1 * (p[1] - p[0])  # steps on the scale of the circle
+            step = np.array([size, size, math.radians(5.0)])
+            while step[0] > 1e-4 * size:
+                trial = p[None, :] + moves * step[None, :]
+                ft = fine(trial)
+                k = int(np.argmin(ft))
+                if ft[k] < f:
+                    p, f = trial[k], float(ft[k])
+                else:
+                    step *= 0.5
+            if not f < start_f:
+                break
         if f < best_f:
             best_p, best_f = p, f
     if not math.isfinite(best_f):

@@ -59,22 +59,16 @@ def test_c9_two_meshes(case, tmp_path, psi):
 
 @pytest.mark.slow
 def test_c9_three_meshes(case, tmp_path):
-    """The report's mesh table: H/16, H/24, H/32, each finest run under 60 s of solver time.
-
-    psi = phi meets every C9 bar. psi = 0 meets the 2 % spread with confirmed mechanisms and
-    lies below the associated F of the same mesh (non-associated flow is weaker), but not the
-    3 % to 1.38 on every mesh: 1.351 / 1.337 / 1.341 (-2.1 / -3.1 / -2.8 %), the same with a
-    search tolerance of 0.25 %, a first increase of 5 % or 40 Newton iterations (the
-    measured figures are in docs/continuum.md); the bar is not asserted for it."""
+    """The report's mesh table: H/16, H/24, H/32 with psi = 0 and psi = phi, every C9 bar
+    met; the non-associated F lies below the associated one on each mesh (non-associated
+    flow is weaker); the finest mesh reaches its F in under 60 s of solver time."""
     associated = case("slope_fos").main(out=tmp_path / "psi20", meshes="16,24,32", psi=20.0)
-    _assert_c9(associated, 3)
     psi0 = case("slope_fos").main(out=tmp_path / "psi0", meshes="16,24,32", psi=0.0)
-    F0 = [r["F"] for r in psi0["meshes"]]
-    assert (max(F0) - min(F0)) / min(F0) <= 0.02
-    for r0, r20 in zip(psi0["meshes"], associated["meshes"]):
-        assert r0["mechanism_confirmed"] and r0["F"] < r20["F"]
     for s in (associated, psi0):
+        _assert_c9(s, 3)
         assert s["meshes"][-1]["wall_time_s"] < 60.0
+    for r0, r20 in zip(psi0["meshes"], associated["meshes"]):
+        assert r0["F"] < r20["F"]
 
 
 def test_weak_slope_gives_f_below_one(case, tmp_path):
@@ -221,3 +215,128 @@ def test_bishop_of_a_mesh_section(builder):
     drawn = critical_circle(np.array([[0.0, 0.0], [20.0, 10.0], [32.0, 10.0]]),
                             uniform_soil(20.0, 10.0, 20.0), floor=0.0)
     assert bishop_circle(model).factor == pytest.approx(drawn.factor, rel=1e-3)
+
+
+class _ScriptedSolver:
+    """A stand-in for PlasticSolver: equilibrium exists up to F = ``limit``, the monitored
+    displacement runs away there (u = 1 mm F / (limit - F)); ``refuses(F, increase)`` scripts
+    numerical failures (True: Newton 'fails' for that increase from that factor)."""
+
+    def __init__(self, limit: float, refuses=lambda F, r: False):
+        from types import SimpleNamespace
+
+        from mpi4py import MPI
+
+        self.limit, self.refuses = limit, refuses
+        self.strength_factor, self.iterations_total = 1.0, 0
+        mesh = SimpleNamespace(comm=MPI.COMM_SELF)
+        self.u = SimpleNamespace(x=SimpleNamespace(array=np.zeros(2)),
+                                 function_space=SimpleNamespace(mesh=mesh))
+
+    def step(self, strength_factor=None):
+        from types import SimpleNamespace
+
+        if strength_factor is None:  # equilibrium at the start
+            return SimpleNamespace(iterations=0)
+        self.iterations_total += 5
+        F, r = strength_factor, strength_factor / self.strength_factor - 1.0
+        if F >= self.limit or self.refuses(self.strength_factor, r):
+            return None
+        self.strength_factor = F
+        self.u.x.array[:] = [1e-3 * F / (self.limit - F), 0.0]
+        return SimpleNamespace(iterations=5)
+
+    def state(self):
+        return None
+
+
+def test_search_brackets_the_limit_and_confirms_the_mechanism():
+    """No numerical failure: F within the tolerance below the limit, the failed factor above
+    it, the displacement jump confirms; every trial's Newton iterations are counted."""
+    from hybrid.continuum.strength_reduction import StrengthSearch, factor_of_safety
+
+    result = factor_of_safety(_ScriptedSolver(1.4321), search=StrengthSearch())
+    F, failed = result.bracket
+    assert F == result.factor < 1.4321 <= failed
+    assert (1.4321 - F) / F <= 0.005 and (failed - F) / F <= 0.005
+    assert result.mechanism_confirmed and result.displacement_jump >= 10.0
+    assert all(it == 5 for _, _, it in result.trials)
+    assert result.as_dict()["converged_steps"] == len(result.curve) - 1 > 0
+
+
+def test_search_passes_numerical_failures():
+    """Newton 'stalls' for every increase of 0.25 % or more between F = 1.2 and 1.25, and
+    converges for smaller ones (non-associated flow does this): the confirmation increases
+    (tolerance / 4, / 8) carry the search past the stall to the real limit. Likewise when
+    only a larger increase converges (F between 1.1 and 1.11, increases below 1 % fail)."""
+    from hybrid.continuum.strength_reduction import StrengthSearch, factor_of_safety
+
+    def stalls(F, r):
+        return 1.2 <= F < 1.25 and r >= 0.0025
+
+    result = factor_of_safety(_ScriptedSolver(1.3, stalls), search=StrengthSearch())
+    assert (1.3 - result.factor) / result.factor <= 0.005
+
+    def only_large(F, r):
+        return 1.1 <= F < 1.11 and r < 0.01
+
+    result = factor_of_safety(_ScriptedSolver(1.3, only_large), search=StrengthSearch())
+    assert (1.3 - result.factor) / result.factor <= 0.005
+
+
+def test_search_reports_a_start_at_the_limit_and_a_slope_that_never_fails():
+    """No increase converges: F is the start (a lower bound), reported with no converged
+    step and no confirmed mechanism. No failure below highest_factor: an error, no number."""
+    from hybrid.continuum.strength_reduction import StrengthSearch, factor_of_safety
+
+    result = factor_of_safety(_ScriptedSolver(1.0), search=StrengthSearch())
+    assert result.factor == 1.0 and result.as_dict()["converged_steps"] == 0
+    assert not result.mechanism_confirmed
+    with pytest.raises(StageIncomplete, match="no failure below F = 10"):
+        factor_of_safety(_ScriptedSolver(100.0), search=StrengthSearch())
+
+
+def test_an_increment_that_moves_too_far_is_rejected(builder):
+    """max_displacement: a converged increment that moves a node further is refused like one
+    that does not converge (a mechanism's amplitude is arbitrary): with a 1 nm limit even the
+    elastic self-weight cannot be placed; with the default (half the smallest edge) it can."""
+    mesh = build_mesh(builder("block"), width=2.0, height=1.0, nx=4, ny=2)
+    soil = Material("soil", E=1e4, nu=0.3, unit_weight=18.0, cohesion=12.0, phi=30.0)
+    model = Model(mesh, {"soil": soil}, supports=[Fixed("base"), Roller("left", "x")])
+    tight = PlasticSolver(model, degree=1, options=NewtonOptions(max_displacement=1e-9,
+                                                                 min_increment=0.1))
+    assert not tight.apply_gravity().completed and tight.gravity_factor == 0.0
+    default = PlasticSolver(model, degree=1)
+    assert default.max_displacement == pytest.approx(0.25)  # half of the 0.5 m edges
+    assert default.apply_gravity().completed
+
+
+def test_section_of_a_quadrilateral_mesh(builder):
+    """Quadrilateral cells (as Carsington's): the surface, floor and material lookup."""
+    from hybrid.continuum.limit_equilibrium import section_of
+
+    mesh = build_mesh(builder("block"), width=4.0, height=2.0, nx=4, ny=2,
+                      cells="quadrilateral")
+    soil = Material("soil", E=1e4, nu=0.3, unit_weight=18.0, cohesion=12.0, phi=30.0)
+    model = Model(mesh, {"soil": soil}, supports=[Fixed("base")])
+    surface, lookup, floor = section_of(model)
+    assert floor == 0.0 and np.allclose(surface[:, 1], 2.0)
+    assert surface[0, 0] == 0.0 and surface[-1, 0] == 4.0
+    gamma, c, phi = lookup(np.array([0.3, 3.9, 2.0]), np.array([0.2, 1.9, 2.5]))
+    assert list(gamma) == [18.0, 18.0, 0.0] and list(c[:2]) == [12.0, 12.0]
+
+
+def test_monitor_point(builder):
+    """The F-displacement curve can follow one point (the crest); it starts at 0 and grows."""
+    from hybrid.continuum.strength_reduction import factor_of_safety
+
+    mesh = build_mesh(builder("slope"), height=10.0, angle=math.degrees(math.atan(0.5)),
+                      foundation_depth=0.0, toe_x=0.0, crest_length=12.0, size=2.0)
+    soil = Material("soil", E=1e5, nu=0.3, unit_weight=20.0, cohesion=10.0, phi=20.0,
+                    psi=20.0)
+    model = Model(mesh, {"soil": soil}, supports=[Fixed("base"), Roller("right", "x")])
+    result = factor_of_safety(PlasticSolver(model, degree=2), gravity_steps=2,
+                              monitor_point=(20.0, 10.0))
+    assert result.monitor.startswith("|u| at (20, 10)")
+    u = [c[1] for c in result.curve]
+    assert u[0] == 0.0 and u[-1] > 0.0 and np.all(np.diff(u) >= 0.0)

@@ -11,12 +11,12 @@ strength (elastic: the analysis never lets it yield).
 from __future__ import annotations
 
 import numpy as np
+from mpi4py import MPI
 
 from hybrid.model import Model
 from hybrid.references import SlipCircle, Soil, critical_circle
 
 __all__ = ["section_of", "bishop_circle"]
-
 
 
 def section_of(model: Model, active: np.ndarray | None = None
@@ -35,7 +35,7 @@ def section_of(model: Model, active: np.ndarray | None = None
     parts = md.comm.allgather((x[cells[keep]], ids[keep]))
     polys = np.concatenate([p[0] for p in parts])  # (n, nv, 2)
     material = np.concatenate([p[1] for p in parts])
-    floor = md.comm.allreduce(float(x[cells][..., 1].min()), op=_min_op())
+    floor = md.comm.allreduce(float(x[cells][..., 1].min()), op=MPI.MIN)
     # one point per mesh vertex (the cells of all ranks share them): a valid triangulation
     scale = float(np.abs(polys).max()) or 1.0
     points, vertex = np.unique(np.round(polys.reshape(-1, 2) / scale, 10), axis=0,
@@ -87,8 +87,3 @@ def _upper_envelope(polys: np.ndarray) -> np.ndarray:
         top[lo:lo + 256] = np.max(np.where(spans, y, -np.inf), axis=1)
     return np.stack([xs, top], axis=1)
 
-
-def _min_op() -> object:
-    from mpi4py import MPI
-
-    return MPI.MIN

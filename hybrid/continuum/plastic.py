@@ -11,7 +11,7 @@ Globalisation, for non-associated flow (psi < phi) where plain Newton stalls:
     (non-smooth Newton, with points changing return region between iterates, often passes
     through a larger residual on its way to convergence; a strict decrease test makes it
     crawl);
-  * an increment whose residual grows ``divergence`` (1e5) times its first value is abandoned
+  * an increment whose residual grows ``divergence`` (1e3) times its first value is abandoned
     at once (the iterate has found a mechanism of the trial state: a smaller increment is
     needed, not more iterations);
   * an increment that converges but moves a node by more than ``max_displacement`` (default
@@ -61,7 +61,7 @@ from hybrid.materials import Material
 from hybrid.model import Model
 
 __all__ = ["Analysis", "IncrementControl", "NewtonOptions", "PlasticSolver", "StepRecord",
-           "material_table", "plateau_rise", "runaway_ratio"]
+           "largest_nodal_norm", "material_table", "plateau_rise", "runaway_ratio"]
 
 log = logging.getLogger(__name__)
 
@@ -103,7 +103,7 @@ class NewtonOptions:
     max_iterations: int = 25
     line_search: int = 4
     residual_growth: float = 10.0
-    divergence: float = 1e5
+    divergence: float = 1e3
     min_increment: float = 1e-3
     max_increment: float | None = None
     growth: float = 1.5
@@ -326,12 +326,6 @@ class PlasticSolver:
         residuals.append(norm)
         return norm <= opts.tolerance * scale, residuals
 
-    def _largest_increment(self) -> float:
-        """Largest nodal displacement of the current increment Du [m] (all ranks)."""
-        local = float(np.max(np.linalg.norm(self.Du.x.array.reshape(-1, 2), axis=1),
-                             initial=0.0))
-        return self.u.function_space.mesh.comm.allreduce(local, op=MPI.MAX)
-
     def _commit(self, kind: str | None, size: float, iterations: int,
                 residuals: list[float], d_lambda: float, d_gravity: float) -> StepRecord:
         stress, _, pstrain, yielded = self._trial
@@ -372,7 +366,8 @@ class PlasticSolver:
         guess = (prev[0] * (size / prev[2]) if prev is not None and kind == prev[1]
                  else None)
         ok, residuals = self._newton(d_lambda, d_gravity, guess)
-        if ok and self._largest_increment() > self.max_displacement:
+        moved = largest_nodal_norm(self.Du.x.array, self.disc.V.mesh.comm)
+        if ok and moved > self.max_displacement:
             ok = False  # a mechanism of arbitrary amplitude, not a small-strain state
         self.wall_time += time.perf_counter() - start
         if not ok:
@@ -665,6 +660,13 @@ class Analysis:
             f"{self.message()}; the displacement did not run away (d u / d load of the last "
             f"step {ratio:.3g} times that of the first, below {jump:g}): Newton did not "
             "converge before a collapse. Use more steps or a finer mesh")
+
+
+def largest_nodal_norm(values: np.ndarray, comm: Any) -> float:
+    """Largest |v| over the nodes of a 2-D vector field given by its dof values, all ranks
+    (collective)."""
+    local = float(np.max(np.linalg.norm(np.reshape(values, (-1, 2)), axis=1), initial=0.0))
+    return comm.allreduce(local, op=MPI.MAX)
 
 
 def plateau_rise(x: Sequence[float], y: Sequence[float], tail: float = 0.2) -> float:

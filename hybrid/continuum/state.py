@@ -46,11 +46,11 @@ class ContinuumState:
     active: np.ndarray | None = None
     strength_factor: float = 1.0
 
-    @property
-    def materials_in_force(self) -> list[Any]:
-        """The model's materials (in ``material_names`` order) at the strengths in force."""
-        return [m.weakened(self.strength_factor)
-                if m.is_plastic and self.strength_factor != 1.0 else m
+    def materials_at(self, strength_factor: float | None = None) -> list[Any]:
+        """The model's materials (in ``material_names`` order) with every strength divided by
+        ``strength_factor`` (default: the factor in force in this state)."""
+        factor = self.strength_factor if strength_factor is None else strength_factor
+        return [m.weakened(factor) if m.is_plastic and factor != 1.0 else m
                 for m in (self.model.materials[k] for k in self.model.material_names)]
 
     @property

@@ -9,9 +9,12 @@ grows by ``growth`` (up to ``max_increment``); after a failed one it is halved a
 tried again from the same newest converged state, so a factor that failed from far away is
 tried again from closer before it is called a failure.
 
-**Failure criterion:** no equilibrium (neither full Newton nor, for non-associated
-materials, the elastic-stiffness iterations bring the residual under the tolerance) for an
-increment smaller than ``tolerance`` (relative) from the newest converged state. F is the
+**Failure criterion:** no equilibrium for an increase smaller than ``tolerance`` (relative)
+from the newest converged state, and none for the confirmation increases tried next from that
+state: smaller ones (``tolerance`` / 4 and / 8) and larger ones (2, 4, ... x ``tolerance`` up
+to ``initial_increment``). Non-smooth Newton (points changing return region, as with
+non-associated flow) sometimes fails for one increase and converges for another: any of them
+converging shows that the failure was numerical, and the search goes on from there. F is the
 last converged factor; the failed factor above it is within ``tolerance`` F.
 **Cross-check:** the monitored displacement (the largest nodal displacement since the start
 of the search, or the displacement of a given point) against F is the curve PLAXIS users know
@@ -35,9 +38,13 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
-from mpi4py import MPI
 
-from hybrid.continuum.plastic import IncrementControl, PlasticSolver, runaway_ratio
+from hybrid.continuum.plastic import (
+    IncrementControl,
+    PlasticSolver,
+    largest_nodal_norm,
+    runaway_ratio,
+)
 from hybrid.continuum.probe import evaluate
 from hybrid.continuum.state import ContinuumState
 from hybrid.errors import StageIncomplete
@@ -64,7 +71,7 @@ class StrengthSearch:
             mechanism [-].
     """
 
-    initial_increment: float = 0.1
+    initial_increment: float = 0.05
     max_increment: float = 0.25
     tolerance: float = 0.005
     growth: float = 1.5
@@ -103,7 +110,8 @@ class SafetyResult:
         gravity_attempts: (strength factor, fraction of the self-weight carried) of each
             switch-on (empty when the search started from the caller's state).
         trials: (factor, equilibrium found, Newton iterations) of every step tried.
-        curve: (factor, monitored displacement [m]) of the converged steps, from the start.
+        curve: (factor, monitored displacement [m]) of the converged steps, from the start
+            (one point only when no increase of F converged: F is then a lower bound).
         displacement_jump: d(u)/dF of the last converged step over that of the first.
         mechanism_confirmed: ``displacement_jump`` reached the search's ``jump_ratio``.
         monitor: what the displacement of ``curve`` is, in words.
@@ -132,7 +140,7 @@ class SafetyResult:
     def as_dict(self) -> dict[str, Any]:
         """The figures for a summary (no arrays, no state)."""
         return {"F": self.factor, "bracket": list(self.bracket), "below_one": self.below_one,
-                "start_factor": self.start,
+                "start_factor": self.start, "converged_steps": len(self.curve) - 1,
                 "gravity_attempts": [{"strength_factor": f, "weight_carried": w}
                                      for f, w in self.gravity_attempts],
                 "trials": [{"F": f, "equilibrium": ok, "iterations": it}
@@ -176,11 +184,16 @@ def factor_of_safety(solver: PlasticSolver, *, search: StrengthSearch | None = N
     trials: list[tuple[float, bool, int]] = []
     control = IncrementControl(search.initial_increment, search.max_increment,
                                0.5 * search.tolerance, search.growth)
+    # before a failure is accepted: smaller increases, then larger ones, from the same state
+    confirmations = ([search.tolerance / 4.0, search.tolerance / 8.0]
+                     + [search.tolerance * 2.0**k for k in range(1, 8)
+                        if search.tolerance * 2.0**k <= search.initial_increment])
     before = solver.u.x.array.copy()
     failed = np.inf
-    leaps: list[float] = []
+    pending: list[float] = []
     while True:
-        size = leaps.pop(0) if leaps else control.size
+        confirming = bool(pending)
+        size = pending.pop(0) if confirming else control.size
         trial = solver.strength_factor * (1.0 + size)
         if trial > search.highest_factor:
             raise StageIncomplete(
@@ -188,28 +201,25 @@ def factor_of_safety(solver: PlasticSolver, *, search: StrengthSearch | None = N
                 f"failure below F = {search.highest_factor:g}: check the loads and supports "
                 "(or raise StrengthSearch.highest_factor)")
         u_before = solver.u.x.array.copy()
+        iterations = solver.iterations_total
         record = solver.step(strength_factor=trial)
-        trials.append((trial, record is not None,
-                       0 if record is None else record.iterations))
+        trials.append((trial, record is not None, solver.iterations_total - iterations))
         if record is None:
-            if not leaps and size == control.size:
+            if not confirming:
                 failed = trial
                 if not control.cut():
-                    if _jump(curve) >= search.jump_ratio:
-                        break  # the displacement confirms the mechanism
-                    # not confirmed: try larger increments from the same state (a smaller
-                    # one failed at size, the one twice as large before it)
-                    leaps = [size * 2.0**k for k in range(2, 8)
-                             if size * 2.0**k <= search.initial_increment]
-                    if not leaps:
+                    # confirmations beyond the range searched are not tried
+                    pending = [c for c in confirmations if solver.strength_factor * (1.0 + c)
+                               <= search.highest_factor]
+                    if not pending:
                         break
-            elif not leaps:
-                break
+            elif not pending:
+                break  # every confirmation failed: the failure stands
             continue
-        if size != control.size:  # a larger increment converged: the failure was numerical
+        if confirming:  # a confirmation converged: the failure was numerical
             control.size = size
             failed = np.inf
-        leaps = []
+        pending = []
         before = u_before
         curve.append((trial, monitor()))
         control.grow()
@@ -267,8 +277,6 @@ def _monitor(solver: PlasticSolver, point: tuple[float, float] | None) -> tuple[
     comm = solver.u.function_space.mesh.comm
 
     def largest() -> float:
-        du = (solver.u.x.array - u0).reshape(-1, 2)
-        local = float(np.max(np.linalg.norm(du, axis=1), initial=0.0))
-        return comm.allreduce(local, op=MPI.MAX)
+        return largest_nodal_norm(solver.u.x.array - u0, comm)
 
     return largest, "largest nodal |u| since the search started"
