@@ -103,7 +103,7 @@ def write_continuum_xdmf(path: str | Path, state: Any) -> Path:
     md = state.model.mesh
     x, cells = md.cell_vertices()
     global_ids = np.asarray(md.mesh.geometry.input_global_indices, dtype=np.int64)
-    u_nodes = _displacement_at_geometry_nodes(md.mesh, state.u)
+    u_nodes = displacement_at_geometry_nodes(md.mesh, state.u)
     cell_stress = state.cell_stress()
     cell_fields = {name: cell_stress[:, i] for i, name in enumerate(STRESS_NAMES)}
     cell_fields["plastic_strain"] = state.cell_plastic_strain()
@@ -128,7 +128,7 @@ def write_continuum_xdmf(path: str | Path, state: Any) -> Path:
     return path
 
 
-def _displacement_at_geometry_nodes(msh: Any, u: Any) -> np.ndarray:
+def displacement_at_geometry_nodes(msh: Any, u: Any) -> np.ndarray:
     """Displacement (n_geometry_nodes, 2) [m] at the first-order mesh's nodes."""
     from dolfinx import fem
 
@@ -147,7 +147,7 @@ def gather_cells(mesh_data: Any, values: np.ndarray, displacement: Any = None,
     x, cells = mesh_data.cell_vertices()
     coords = x.copy()
     if displacement is not None and scale > 0:
-        coords = coords + scale * _displacement_at_geometry_nodes(mesh_data.mesh, displacement)
+        coords = coords + scale * displacement_at_geometry_nodes(mesh_data.mesh, displacement)
     polys = coords[cells]
     comm = mesh_data.comm
     all_polys = comm.gather(polys, root=0)

@@ -1,0 +1,179 @@
+"""The discrete start built from a :class:`~hybrid.snapshot.CellSnapshot` (numpy only).
+
+What is carried:
+  * geometry: each cell's vertices at their current (deformed) coordinates; every element
+    owns its nodes; coincident nodes are tied (one velocity), every shared edge is an intact
+    interface; masses from the undeformed cells (mass is conserved: rho_0 V_0);
+  * stress, plastic strain, yield flags: when the continuum rule is the discrete element's own
+    (P1 triangle, 1 point; Q1, 2x2 Gauss) point by point; otherwise (P2 / Q2) the **cell mean**
+    (the local L2 projection onto constants) at every discrete Gauss point, and the maximum
+    plastic strain / any yielded point of the cell;
+  * the snapshot's materials (the strengths in force), supports (the nodes on the boundary
+    are held in the directions given), surface loads (consistent nodal forces on each
+    boundary edge of its element, at the current geometry, kept in ``load_forces`` so that a
+    load history can scale them), gravity;
+  * velocities start at zero.
+The quadratic continuum field becomes linear elements with a constant stress: the start is
+close to, not exactly in, its own equilibrium (:func:`hybrid.discrete.settle.settle` brings it
+there and reports how far it moved).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from hybrid.discrete.state import Q4_GAUSS, DiscreteState, check_elements, from_mesh
+from hybrid.snapshot import CellSnapshot
+
+__all__ = ["Handover", "start_from_snapshot"]
+
+
+@dataclass
+class Handover:
+    """The discrete start and what is needed to continue the loading.
+
+    Attributes:
+        discrete: the DiscreteState (None on MPI ranks other than 0).
+        splittable: (n_elements,) True for elements in the splittable region.
+        frozen: (n_elements,) True for frozen (held) elements.
+        load_forces: (n_nodes, 2) nodal forces [kN/m] of the model's surface loads as they
+            stood at handover; ``discrete.external_force`` starts equal to it.
+        boundary_nodes: boundary name -> discrete node indices on it.
+        report: counts (elements, nodes, mass, region size) for the summary.
+    """
+
+    discrete: Any
+    splittable: np.ndarray
+    frozen: np.ndarray
+    load_forces: np.ndarray
+    boundary_nodes: dict[str, np.ndarray] = field(default_factory=dict)
+    report: dict[str, Any] = field(default_factory=dict)
+
+    def set_load_factor(self, factor: float) -> None:
+        """Scale the surface loads carried over (1 = as at handover, 0 = removed)."""
+        self.discrete.external_force[:] = factor * self.load_forces
+        self.discrete.primed = False
+
+
+def start_from_snapshot(snapshot: CellSnapshot, *, splittable: np.ndarray,
+                        frozen: np.ndarray) -> Handover:
+    """One discrete element per snapshot cell; interfaces between two ``splittable`` cells
+    may split; the nodes of ``frozen`` cells are held (a rigid contact body)."""
+    s = snapshot
+    splittable = np.asarray(splittable, dtype=bool)
+    frozen = np.asarray(frozen, dtype=bool)
+    if splittable.shape != (s.n_cells,) or frozen.shape != (s.n_cells,):
+        raise ValueError(f"splittable and frozen need one flag per cell ({s.n_cells}), got "
+                         f"{splittable.shape} and {frozen.shape}")
+    # masses from the undeformed cells, then the nodes moved to the current geometry, which
+    # must still be valid elements
+    disc = from_mesh(s.x_undeformed, s.cells, s.material, list(s.materials),
+                     gravity=s.gravity)
+    disc.x[:] = s.x[s.cells].reshape(-1, 2)
+    disc.x_ref[:] = disc.x
+    check_elements(disc.x, disc.element_nodes)
+    ngp = disc.stress.shape[1]
+    exact = s.degree == 1 and s.points.shape[1] == ngp
+    # continuum points sit on the undeformed cells: match them on the undeformed geometry
+    match = None
+    if exact:
+        match = _match_points(disc, s.x_undeformed[s.cells].reshape(-1, 2), s.points)
+    disc.stress[:] = _carry_points(s.stress, ngp, exact, match)
+    if exact:
+        disc.plastic_strain[:] = _carry_points(s.plastic_strain, ngp, True, match)
+        disc.yielded[:] = _carry_points(s.yielded, ngp, True, match)
+    else:
+        disc.plastic_strain[:] = s.plastic_strain.max(axis=1, keepdims=True)
+        disc.yielded[:] = np.any(s.yielded > 0, axis=1, keepdims=True).astype(np.int8)
+
+    ie = disc.interface_elements
+    disc.interface_splittable[:] = splittable[ie[:, 0]] & splittable[ie[:, 1]]
+    if frozen.any():
+        disc.fix(disc.element_nodes[frozen].ravel())
+    boundary_nodes, load_forces = _boundaries(s, disc)
+    for name, held_x, held_y in s.supports:
+        nodes = boundary_nodes.get(name, np.zeros(0, dtype=np.int64))
+        disc.fix(nodes, x=held_x, y=held_y)
+    disc.external_force[:] = load_forces
+    disc.primed = False
+    report = {"elements": int(disc.n_elements), "nodes": int(disc.n_nodes),
+              "tie_groups": int(disc.n_groups), "interfaces": int(len(ie)),
+              "splittable_elements": int(splittable.sum()),
+              "splittable_interfaces": int(disc.interface_splittable.sum()),
+              "frozen_elements": int(frozen.sum()), "total_mass_t_per_m": float(disc.mass.sum()),
+              "stress_mapping": "point by point" if exact else "cell mean (L2 onto constants)",
+              "element": "Q4" if s.cells.shape[1] == 4 else "T3",
+              "strength_factor": float(s.strength_factor),
+              "strengths": {m.name: {"cohesion_kPa": m.cohesion, "phi_deg": m.phi,
+                                     "psi_deg": m.psi} for m in s.materials if m.is_plastic}}
+    return Handover(disc, splittable, frozen, load_forces, boundary_nodes, report)
+
+
+def _boundaries(s: CellSnapshot, disc: DiscreteState) -> tuple[dict[str, np.ndarray],
+                                                                 np.ndarray]:
+    """Discrete nodes of each named boundary and the nodal forces of the surface loads."""
+    point_of_node = s.cells.reshape(-1)  # discrete node k sits at snapshot point [k]
+    centroids = disc.element_centroids()
+    load_forces = np.zeros_like(disc.x)
+    boundary_nodes = {}
+    for name, edges in s.boundary_edges.items():
+        nodes_on = []
+        load = s.loads.get(name)
+        for va, vb, e in edges:
+            nodes = disc.element_nodes[e]
+            a = int(nodes[np.flatnonzero(point_of_node[nodes] == va)[0]])
+            b = int(nodes[np.flatnonzero(point_of_node[nodes] == vb)[0]])
+            nodes_on.extend([a, b])
+            if load is not None:
+                load_forces[[a, b]] += 0.5 * s.load_factor * _edge_force(
+                    load, disc.x[a], disc.x[b], centroids[e])
+        boundary_nodes[name] = np.unique(np.array(nodes_on, dtype=np.int64))
+    return boundary_nodes, load_forces
+
+
+def _edge_force(load: tuple[float, float, float], xa: np.ndarray, xb: np.ndarray,
+                inside: np.ndarray) -> np.ndarray:
+    """Resultant [kN/m] of a surface load (pressure, tx, ty) on the edge a-b (outward normal
+    away from ``inside``)."""
+    pressure, tx, ty = load
+    t = xb - xa
+    length = float(np.hypot(*t))
+    if pressure == 0.0:
+        return np.array([tx, ty]) * length
+    normal = np.array([t[1], -t[0]]) / length
+    if np.dot(normal, 0.5 * (xa + xb) - inside) < 0:
+        normal = -normal
+    force = -pressure * length * normal
+    return force if tx == 0.0 and ty == 0.0 else force + np.array([tx, ty]) * length
+
+
+def _carry_points(values: np.ndarray, n_discrete: int, exact: bool,
+                  match: np.ndarray | None) -> np.ndarray:
+    """Map (n, nqp, ...) continuum point values onto the discrete Gauss points.
+
+    ``exact``: the same rule; ``match[e, k]`` is the continuum point at discrete point k.
+    Otherwise the cell mean goes to every discrete point.
+    """
+    if exact:
+        return np.take_along_axis(values, match.reshape(match.shape + (1,) * (values.ndim - 2)),
+                                  axis=1).copy()
+    mean = values.mean(axis=1, keepdims=True)
+    return np.repeat(mean, n_discrete, axis=1)
+
+
+def _match_points(disc: DiscreteState, x_nodes: np.ndarray, qp: np.ndarray) -> np.ndarray:
+    """For each element and discrete Gauss point (on the node positions ``x_nodes``), the
+    nearest continuum quadrature point."""
+    xe = x_nodes[disc.element_nodes]  # (n, nen, 2)
+    if disc.nen == 4:
+        xi, eta = Q4_GAUSS[:, 0], Q4_GAUSS[:, 1]
+        shape = 0.25 * np.stack([(1 - xi) * (1 - eta), (1 + xi) * (1 - eta),
+                                 (1 + xi) * (1 + eta), (1 - xi) * (1 + eta)], axis=1)
+        gp = np.einsum("ka,nad->nkd", shape, xe)
+    else:
+        gp = xe.mean(axis=1, keepdims=True)
+    dist = np.sum((gp[:, :, None, :] - qp[:, None, :, :]) ** 2, axis=-1)
+    return np.argmin(dist, axis=2)

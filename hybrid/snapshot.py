@@ -1,0 +1,88 @@
+"""The continuum state as plain arrays: what the discrete phase starts from.
+
+A :class:`CellSnapshot` is written by the continuum side
+(:func:`hybrid.continuum.snapshot.cell_snapshot`, dolfinx) and read by the discrete side
+(:func:`hybrid.discrete.start.start_from_snapshot`, numpy only): neither needs the other's
+objects. Cells are in gmsh order (serial and MPI runs give the same snapshot); only the cells
+in place are included (staged construction).
+
+Units: m, kPa, kN/m3, m/s2; stress rows are (sigma_xx, sigma_yy, sigma_zz, sigma_xy).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from hybrid.materials import Material
+
+__all__ = ["CellSnapshot"]
+
+
+@dataclass(frozen=True)
+class CellSnapshot:
+    """Cells, fields, boundaries and loads of a converged continuum state.
+
+    Attributes:
+        x_undeformed: (n_points, 2) mesh vertices before any displacement [m].
+        x: (n_points, 2) the same vertices at the current geometry x + u [m].
+        cells: (n_cells, 3 or 4) vertex indices, counter-clockwise.
+        material: (n_cells,) index into ``materials``.
+        materials: the materials at the strengths in force (one per cell group, in order).
+        material_names: the cell-group name of each material.
+        strength_factor: F the strengths of ``materials`` are divided by [-].
+        degree: polynomial degree of the continuum displacement (1: the point values map
+            one to one onto the discrete Gauss points when the rules match).
+        points: (n_cells, n_points_per_cell, 2) continuum quadrature points [m].
+        stress: (n_cells, n_points_per_cell, 4) stress at those points [kPa].
+        plastic_strain: (n_cells, n_points_per_cell) equivalent plastic strain [-].
+        yielded: (n_cells, n_points_per_cell) 1 where the point yielded in the last step.
+        boundary_edges: boundary name -> (m, 3) rows (vertex a, vertex b, cell).
+        supports: (boundary name, x held, y held) of every support, in the model's order.
+        loads: boundary name -> (pressure [kPa], traction x [kPa], traction y [kPa]) of the
+            surface load on it (pressure acts against the outward normal).
+        load_factor: the factor the surface loads stand at [-].
+        gravity: (2,) acceleration of gravity in force [m/s2] ((0, 0): no self-weight).
+    """
+
+    x_undeformed: np.ndarray
+    x: np.ndarray
+    cells: np.ndarray
+    material: np.ndarray
+    materials: tuple[Material, ...]
+    material_names: tuple[str, ...]
+    strength_factor: float
+    degree: int
+    points: np.ndarray
+    stress: np.ndarray
+    plastic_strain: np.ndarray
+    yielded: np.ndarray
+    boundary_edges: dict[str, np.ndarray] = field(default_factory=dict)
+    supports: tuple[tuple[str, bool, bool], ...] = ()
+    loads: dict[str, tuple[float, float, float]] = field(default_factory=dict)
+    load_factor: float = 1.0
+    gravity: tuple[float, float] = (0.0, 0.0)
+
+    def __post_init__(self) -> None:
+        n = len(self.cells)
+        if self.cells.ndim != 2 or self.cells.shape[1] not in (3, 4):
+            raise ValueError(f"CellSnapshot.cells must be (n_cells, 3 or 4), got "
+                             f"{self.cells.shape}")
+        if self.x.shape != self.x_undeformed.shape or self.x.ndim != 2 or self.x.shape[1] != 2:
+            raise ValueError("CellSnapshot.x and x_undeformed must both be (n_points, 2), got "
+                             f"{self.x.shape} and {self.x_undeformed.shape}")
+        for name in ("material", "points", "stress", "plastic_strain", "yielded"):
+            if len(getattr(self, name)) != n:
+                raise ValueError(f"CellSnapshot.{name} must have one row per cell ({n}), got "
+                                 f"{len(getattr(self, name))}")
+        if len(self.material_names) != len(self.materials):
+            raise ValueError("CellSnapshot: one material name per material")
+        if n and not 0 <= self.material.min() <= self.material.max() < len(self.materials):
+            raise ValueError(f"CellSnapshot.material must index the {len(self.materials)} "
+                             "materials")
+
+    @property
+    def n_cells(self) -> int:
+        """Number of cells."""
+        return len(self.cells)

@@ -1,0 +1,82 @@
+"""The discrete start from a CellSnapshot: numpy only, checked with dolfinx hidden.
+
+Two unit Q4 cells side by side (x in [0, 2], y in [0, 1]), elastic, gamma = 20 kN/m3, a pressure of
+50 kPa on the top, the base fixed. Closed forms: mass = (gamma / g) x area; the pressure's
+nodal forces sum to -p x width in y; the shared edge is the one interface.
+"""
+
+import subprocess
+import textwrap
+
+import numpy as np
+import pytest
+from conftest import PYTHON, ROOT
+
+from hybrid.handover import Region, start_from
+from hybrid.materials import GRAVITY, Material
+from hybrid.snapshot import CellSnapshot
+
+
+def _snapshot(**changes) -> CellSnapshot:
+    x = np.array([[0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [0.0, 1.0], [1.0, 1.0], [2.0, 1.0]])
+    fields = dict(
+        x_undeformed=x, x=x.copy(), cells=np.array([[0, 1, 4, 3], [1, 2, 5, 4]]),
+        material=np.array([0, 0]),
+        materials=(Material(name="clay", E=1e5, nu=0.3, unit_weight=20.0),),
+        material_names=("clay",), strength_factor=1.0, degree=2,
+        points=np.zeros((2, 4, 2)), stress=np.full((2, 4, 4), -10.0),
+        plastic_strain=np.array([[0.0] * 4, [0.1] * 4]), yielded=np.zeros((2, 4), np.int8),
+        boundary_edges={"base": np.array([[0, 1, 0], [1, 2, 1]]),
+                        "top": np.array([[3, 4, 0], [4, 5, 1]])},
+        supports=(("base", True, True),), loads={"top": (50.0, 0.0, 0.0)},
+        load_factor=1.0, gravity=(0.0, -GRAVITY))
+    fields.update(changes)
+    return CellSnapshot(**fields)
+
+
+def test_start_from_a_snapshot_carries_mass_loads_supports_and_region():
+    hand = start_from(_snapshot(), region=Region(plastic_strain=0.05))
+    disc = hand.discrete
+    assert disc.n_elements == 2 and disc.n_nodes == 8
+    assert disc.mass.sum() == pytest.approx(20.0 / GRAVITY * 2.0, rel=1e-12)
+    assert hand.load_forces[:, 1].sum() == pytest.approx(-50.0 * 2.0, rel=1e-12)
+    assert hand.load_forces[:, 0] == pytest.approx(0.0, abs=1e-12)
+    base = hand.boundary_nodes["base"]
+    assert disc.x[base, 1] == pytest.approx(0.0) and disc.fixed[base].all()
+    assert disc.fixed.sum() == 2 * len(base)  # nothing else is held
+    assert hand.splittable.tolist() == [False, True]  # only the cell beyond 0.05
+    assert not disc.interface_splittable.any()  # the one interface needs both cells in
+    assert np.all(disc.stress == -10.0)  # P2 -> cell mean at every Gauss point
+    assert hand.report["strength_factor"] == 1.0 and hand.report["element"] == "Q4"
+    both = start_from(_snapshot(), region=Region(plastic_strain=0.05, layers=1))
+    assert both.discrete.interface_splittable.tolist() == [True]
+
+
+def test_a_snapshot_with_inconsistent_arrays_is_refused():
+    with pytest.raises(ValueError, match="one row per cell"):
+        _snapshot(stress=np.zeros((3, 4, 4)))
+    with pytest.raises(ValueError, match="no such cell group"):
+        start_from(_snapshot(), region=Region(group="rock"))
+
+
+def test_handover_runs_without_dolfinx():
+    """The discrete start and the tied settle need neither dolfinx nor ufl: they are
+    imported with both made unimportable, and never loaded."""
+    script = textwrap.dedent("""
+        import sys
+        for name in ("dolfinx", "ufl", "basix", "ffcx", "petsc4py"):
+            sys.modules[name] = None  # import raises ImportError
+        sys.path.insert(0, "tests")
+        from test_handover_snapshot import _snapshot
+        from hybrid.handover import Region, settle, start_from
+        hand = start_from(_snapshot(), region=Region(everywhere=True))
+        report = settle(hand, steps=200)
+        assert report.final_residual < report.initial_residual
+        assert not any(m.split(".")[0] in ("dolfinx", "ufl") and sys.modules[m] is not None
+                       for m in list(sys.modules))
+        print("ok", hand.discrete.n_elements)
+    """)
+    done = subprocess.run([PYTHON, "-c", script], cwd=ROOT, capture_output=True, text=True,
+                          timeout=300)
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split() == ["ok", "2"]
