@@ -35,6 +35,7 @@ from hybrid.discrete.builders import blocks
 from hybrid.discrete.energy import energy_excess, energy_peak_ratio
 from hybrid.discrete.run import run
 from hybrid.io import Check, write_summary
+from hybrid.materials import GRAVITY
 from hybrid.report import plot_energy
 
 
@@ -43,7 +44,7 @@ class Parameters:
     E: float = 1.0e5  # Young's modulus [kPa]
     nu: float = 0.3  # Poisson's ratio [-]
     density: float = 2.0  # [t/m3]
-    g: float = 9.81  # gravity [m/s2]
+    g: float = GRAVITY  # gravity [m/s2]
     base_width: float = 1.0  # width of each base block [m]
     base_height: float = 1.0  # height of the base blocks [m]
     gap: float = 0.2  # horizontal gap between the base blocks [m]

@@ -32,6 +32,7 @@ import numpy as np
 from hybrid.discrete import DiscreteMaterial, integrate, rectangle
 from hybrid.discrete.run import run
 from hybrid.io import Check, write_summary
+from hybrid.materials import GRAVITY
 from hybrid.report import plot_energy
 
 
@@ -42,7 +43,7 @@ class Parameters:
     density: float = 2.0  # [t/m3]
     size: float = 4.0  # block width and height [m]
     n: int = 4  # elements per side
-    g: float = 9.81  # gravity [m/s2]
+    g: float = GRAVITY  # gravity [m/s2]
     alpha: float = 3.0  # mass damping of the D2 run [1/s]
     free_steps: int = 50  # undamped steps before the D1 acceleration is measured
     t_end: float = 6.0  # end of the damped run [s] (1 - exp(-alpha t_end) of g / alpha)

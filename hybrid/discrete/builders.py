@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from hybrid.discrete.state import DiscreteMaterial, DiscreteState, from_mesh
+from hybrid.materials import GRAVITY
 
 __all__ = ["rectangle", "rectangle_mesh", "blocks"]
 
@@ -46,7 +47,7 @@ def rectangle_mesh(width: float, height: float, nx: int, ny: int, element: str =
 
 def rectangle(width: float, height: float, nx: int, ny: int, element: str = "Q4", *,
               material: DiscreteMaterial, origin=(0.0, 0.0),
-              gravity=(0.0, -9.81)) -> DiscreteState:
+              gravity=(0.0, -GRAVITY)) -> DiscreteState:
     """A tied rectangle of nx x ny cells (Q4, or T3 with two triangles per cell) of one
     material, lower-left corner at ``origin`` [m]; all coincident nodes tied, every inner edge
     an intact splittable interface, nothing fixed."""
@@ -55,7 +56,7 @@ def rectangle(width: float, height: float, nx: int, ny: int, element: str = "Q4"
                      gravity=gravity)
 
 
-def blocks(specs, materials, element: str = "Q4", *, gravity=(0.0, -9.81),
+def blocks(specs, materials, element: str = "Q4", *, gravity=(0.0, -GRAVITY),
            rigid=()) -> DiscreteState:
     """Several separate rectangular bodies in one state (not tied to each other).
 

@@ -14,6 +14,8 @@ from pathlib import Path
 
 import numpy as np
 
+from hybrid.materials import GRAVITY
+
 __all__ = ["DiscreteMaterial", "DiscreteState", "from_mesh", "material_rows", "check_elements",
            "groups_csr", "Q4_GAUSS"]
 
@@ -174,7 +176,7 @@ class DiscreteState:
     elastic_only: np.ndarray  # (n_mat,) bool, skip the Mohr-Coulomb return
     interface_table: np.ndarray  # (n_mat, 3) [cohesion kPa, tan_phi, tensile_strength kPa]
     contact_table: np.ndarray  # (n_mat, 4) [k_n kPa/m, k_t kPa/m, mu, zeta]
-    gravity: np.ndarray = field(default_factory=lambda: np.array([0.0, -9.81]))  # (2,) [m/s2]
+    gravity: np.ndarray = field(default_factory=lambda: np.array([0.0, -GRAVITY]))  # (2,) [m/s2]
     time: float = 0.0  # [s]
     step: int = 0
     # engine work arrays (part of the state so that a checkpoint restarts bit for bit)
@@ -379,7 +381,7 @@ def check_elements(x: np.ndarray, element_nodes: np.ndarray) -> None:
             "(pass fix_orientation=True to reverse clockwise elements)")
 
 
-def from_mesh(points, cells, cell_material, materials, *, gravity=(0.0, -9.81),
+def from_mesh(points, cells, cell_material, materials, *, gravity=(0.0, -GRAVITY),
               fix_orientation: bool = False) -> DiscreteState:
     """Build a DiscreteState from a conforming mesh.
 
