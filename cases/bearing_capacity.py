@@ -76,7 +76,7 @@ def main(out: str | Path = "results/bearing_capacity", **overrides) -> dict:
     psi = p.phi if p.psi is None else p.psi
     mesh = build_mesh(load_builder(MESHES / "footing.py"), width=p.width, depth=p.depth,
                       half_footing=b, fine=p.fine, coarse=p.coarse, cells=p.cells)
-    soil = Material("soil", E=p.E, nu=p.nu, unit_weight=p.unit_weight, cohesion=p.cohesion,
+    soil = Material(name="soil", E=p.E, nu=p.nu, unit_weight=p.unit_weight, cohesion=p.cohesion,
                     phi=p.phi, psi=psi, plastic=True)
     model = Model(mesh, {"soil": soil},
                   supports=[Fixed("base"), Roller("symmetry", "x"), Roller("right", "x"),

@@ -183,19 +183,19 @@ def materials(p: Parameters) -> dict[str, Material]:
     fill = {"cohesion": p.fill_c, "phi": p.fill_phi, "E": p.fill_E, "nu": p.fill_nu,
             "unit_weight": p.fill_gamma, "contact_phi": p.fill_residual_phi, **contact}
     return {
-        "foundation": Material("mudstone", E=p.foundation_E, nu=p.foundation_nu,
+        "foundation": Material(name="mudstone", E=p.foundation_E, nu=p.foundation_nu,
                                unit_weight=p.foundation_gamma, contact_phi=p.fill_phi,
                                **contact),
-        "yellow_clay": Material("yellow clay", E=p.yellow_clay_E, nu=p.yellow_clay_nu,
+        "yellow_clay": Material(name="yellow clay", E=p.yellow_clay_E, nu=p.yellow_clay_nu,
                                 unit_weight=p.yellow_clay_gamma, cohesion=p.yellow_clay_cu,
                                 interface_tensile_strength=p.yellow_clay_cu,
                                 contact_phi=p.clay_residual_phi, **contact),
-        "core": Material("core", E=p.core_E, nu=p.core_nu, unit_weight=p.core_gamma,
+        "core": Material(name="core", E=p.core_E, nu=p.core_nu, unit_weight=p.core_gamma,
                          cohesion=p.core_cu, interface_tensile_strength=p.core_cu,
                          contact_phi=p.clay_residual_phi, **contact),
-        "zone_I": Material("Zone I", **fill),
-        "zone_II": Material("Zone II", **fill),
-        "berm": Material("berm", **fill),
+        "zone_I": Material(name="Zone I", **fill),
+        "zone_II": Material(name="Zone II", **fill),
+        "berm": Material(name="berm", **fill),
     }
 
 

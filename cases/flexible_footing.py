@@ -62,7 +62,7 @@ def solve(p: Parameters, refinement: float = 1.0):
     mesh = build_mesh(load_builder(MESHES / "footing.py"), width=p.width, depth=p.depth,
                       half_footing=p.footing_width / 2, fine=p.fine / refinement,
                       coarse=p.coarse / refinement, cells=p.cells)
-    soil = Material("soil", E=p.E, nu=p.nu)
+    soil = Material(name="soil", E=p.E, nu=p.nu)
     model = Model(mesh, {"soil": soil},
                   supports=[Fixed("base"), Roller("symmetry", "x"), Roller("right", "x")],
                   loads=[Pressure("footing", p.q)])

@@ -91,7 +91,7 @@ def main(out: str | Path = "results/footing_failure", **overrides) -> dict:
     b = p.footing_width / 2
     mesh = build_mesh(load_builder(MESHES / "footing.py"), width=p.width, depth=p.depth,
                       half_footing=b, fine=p.fine, coarse=p.coarse, cells="quadrilateral")
-    soil = Material("soil", E=p.E, nu=p.nu, unit_weight=p.unit_weight, cohesion=p.cohesion,
+    soil = Material(name="soil", E=p.E, nu=p.nu, unit_weight=p.unit_weight, cohesion=p.cohesion,
                     phi=p.phi, psi=p.psi, interface_cohesion=p.interface_cohesion,
                     interface_phi=p.interface_phi,
                     interface_tensile_strength=p.interface_tensile_strength,

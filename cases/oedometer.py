@@ -53,7 +53,7 @@ def main(out: str | Path = "results/oedometer", **overrides) -> dict:
     out = Path(out)
     mesh = build_mesh(load_builder(MESHES / "block.py"), width=p.width, height=p.height,
                       nx=p.nx, ny=p.ny, cells=p.cells)
-    soil = Material("soil", E=p.E, nu=p.nu, unit_weight=p.unit_weight)
+    soil = Material(name="soil", E=p.E, nu=p.nu, unit_weight=p.unit_weight)
     model = Model(mesh, {"soil": soil}, supports=[Roller("base", "y"), Roller("left", "x"),
                                                   Roller("right", "x")])
     state = solve_elastic(model, gravity=True, degree=p.degree)

@@ -74,7 +74,7 @@ def main(out: str | Path = "results/retaining_wall", **overrides) -> dict:
         0.02 if p.mode == "active" else 0.4)
     mesh = build_mesh(load_builder(MESHES / "block.py"), width=p.length, height=p.height,
                       nx=p.nx, ny=p.ny, cells="triangle")
-    sand = Material("sand", E=p.E, nu=p.nu, unit_weight=p.unit_weight, cohesion=p.cohesion,
+    sand = Material(name="sand", E=p.E, nu=p.nu, unit_weight=p.unit_weight, cohesion=p.cohesion,
                     phi=p.phi, psi=p.phi if p.psi is None else p.psi, plastic=True)
     sign = -1.0 if p.mode == "active" else 1.0
     model = Model(mesh, {"soil": sand},

@@ -89,10 +89,10 @@ def main(out: str | Path = "results/retaining_wall_collapse", **overrides) -> di
     out = Path(out)
     mesh = build_mesh(load_builder(MESHES / "wall.py"), height=p.height, length=p.length,
                       front=p.front, size=p.size, cells="quadrilateral")
-    sand = Material("sand", E=p.E, nu=p.nu, unit_weight=p.unit_weight, cohesion=0.0, phi=p.phi,
+    sand = Material(name="sand", E=p.E, nu=p.nu, unit_weight=p.unit_weight, cohesion=0.0, phi=p.phi,
                     psi=p.psi, plastic=True, interface_tensile_strength=0.0,
                     contact_damping=p.contact_damping)
-    ground = Material("ground", E=p.E, nu=p.nu, unit_weight=p.unit_weight,
+    ground = Material(name="ground", E=p.E, nu=p.nu, unit_weight=p.unit_weight,
                       contact_phi=p.phi, contact_damping=p.contact_damping)
     # the ground is only a support in the continuum: the backfill base is held (rough; it also
     # holds the heel node, which the wall's prescribed movement would otherwise drag through

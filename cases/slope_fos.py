@@ -83,7 +83,7 @@ def main(out: str | Path = "results/slope_fos", **overrides: Any) -> dict:
     search = StrengthSearch(initial_increment=p.fos_initial_increment,
                             max_increment=p.fos_max_increment, tolerance=p.fos_tolerance)
     newton = NewtonOptions(tolerance=p.newton_tolerance, max_iterations=p.newton_max_iterations)
-    soil = Material("soil", E=p.E, nu=p.nu, unit_weight=p.unit_weight, cohesion=p.cohesion,
+    soil = Material(name="soil", E=p.E, nu=p.nu, unit_weight=p.unit_weight, cohesion=p.cohesion,
                     phi=p.phi, psi=p.psi)
 
     # limit equilibrium of the same section: toe at (0, 0), rigid base at toe level

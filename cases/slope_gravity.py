@@ -55,7 +55,7 @@ def solve(p: Parameters, refinement: float = 1.0):
                       foundation_depth=p.foundation_depth, toe_x=p.flat,
                       crest_length=p.flat, size=p.size / refinement,
                       cells=p.cells)
-    soil = Material("soil", E=p.E, nu=p.nu, unit_weight=p.unit_weight)
+    soil = Material(name="soil", E=p.E, nu=p.nu, unit_weight=p.unit_weight)
     model = Model(mesh, {"soil": soil},
                   supports=[Fixed("base"), Roller("left", "x"), Roller("right", "x")])
     return solve_elastic(model, gravity=True, degree=p.degree)

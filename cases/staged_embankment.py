@@ -69,7 +69,7 @@ def main(out: str | Path = "results/staged_embankment", **overrides) -> dict:
     out = Path(out)
     mesh = build_mesh(load_builder(MESHES / "layers.py"), width=p.width,
                       lift_thickness=p.lift_thickness, lifts=p.lifts)
-    fill = Material("fill", E=p.E, nu=p.nu, unit_weight=p.unit_weight, cohesion=p.cohesion,
+    fill = Material(name="fill", E=p.E, nu=p.nu, unit_weight=p.unit_weight, cohesion=p.cohesion,
                     phi=p.phi)
     names = [f"lift{k + 1}" for k in range(p.lifts)]
     model = Model(mesh, dict.fromkeys(names, fill),

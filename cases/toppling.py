@@ -138,11 +138,11 @@ def main(out: str | Path = "results/toppling", **overrides) -> dict:
     mesh = build_mesh(load_builder(MESHES / "face.py"), width=p.width, height=p.height,
                       nx=p.nx, ny=p.ny, lean=p.lean, x0=x0, ground_length=6.0 * p.height)
     gamma = p.density * GRAVITY
-    rock = Material("face", E=p.E, nu=p.nu, unit_weight=gamma, plastic=False,
+    rock = Material(name="face", E=p.E, nu=p.nu, unit_weight=gamma, plastic=False,
                     interface_cohesion=0.0, interface_phi=p.interface_phi,
                     interface_tensile_strength=0.0, contact_phi=p.contact_phi,
                     contact_damping=p.contact_damping)
-    ground = Material("ground", E=p.E, nu=p.nu, unit_weight=gamma, plastic=False,
+    ground = Material(name="ground", E=p.E, nu=p.nu, unit_weight=gamma, plastic=False,
                       contact_phi=p.contact_phi, contact_damping=p.contact_damping)
     state = solve_elastic(Model(mesh, {"face": rock, "ground": ground},
                                 supports=[Fixed("base")]))

@@ -51,7 +51,7 @@ def main(out: str | Path = "results/uniform_load", **overrides) -> dict:
     out = Path(out)
     mesh = build_mesh(load_builder(MESHES / "block.py"), width=p.size, height=p.size,
                       nx=p.n, ny=p.n, cells=p.cells)
-    model = Model(mesh, {"soil": Material("soil", E=p.E, nu=p.nu)},
+    model = Model(mesh, {"soil": Material(name="soil", E=p.E, nu=p.nu)},
                   supports=[Roller("base", "y"), Roller("left", "x")],
                   loads=[Pressure("top", p.q)])
     state = solve_elastic(model, gravity=False, degree=p.degree)

@@ -7,20 +7,29 @@ contact stiffness in kPa/m (normal force per unit thickness = k_n * overlap area
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, replace
 
 GRAVITY = 9.81  # m/s2, converts unit weight (kN/m3) to density (t/m3)
 
-__all__ = ["GRAVITY", "Material", "MaterialError"]
+__all__ = ["GRAVITY", "Material", "MaterialError", "MaterialWarning"]
 
 
 class MaterialError(ValueError):
     """A material parameter is out of its valid range."""
 
 
-@dataclass(frozen=True)
+class MaterialWarning(UserWarning):
+    """A material parameter is valid but looks like it was given in the wrong unit."""
+
+
+@dataclass(frozen=True, kw_only=True)
 class Material:
     """A linear-elastic, optionally Mohr-Coulomb perfectly plastic, material.
+
+    Keyword-only (``Material(name="clay", E=10_000.0, nu=0.3, ...)``). A Young's modulus
+    below 100 kPa (a modulus in MPa?) or a friction or dilation angle below 1.6 that is not a
+    whole number of degrees (an angle in radians?) is accepted with a ``MaterialWarning``.
 
     A material is plastic when ``plastic=True`` is given or when it has strength parameters
     (``cohesion > 0`` or ``phi > 0``); otherwise it stays elastic however it is loaded.
@@ -103,6 +112,20 @@ class Material:
             raise bad("contact_stiffness", self.contact_stiffness, "> 0 kPa/m")
         if not 0 <= self.contact_damping <= 1:
             raise bad("contact_damping", self.contact_damping, "a damping ratio in [0, 1]")
+        self._warn_units()
+
+    def _warn_units(self) -> None:
+        """Warn about values that look like the wrong unit (valid, but suspicious)."""
+        if self.E < 100.0:
+            warnings.warn(f"material '{self.name}': E = {self.E:g} kPa is very soft; E is in "
+                          f"kPa (for {self.E:g} MPa give E = {1000 * self.E:g})",
+                          MaterialWarning, stacklevel=4)
+        for key in ("phi", "psi", "interface_phi", "contact_phi"):
+            value = getattr(self, key)
+            if value is not None and 0 < value < 1.6 and value != round(value):
+                warnings.warn(f"material '{self.name}': {key} = {value:g} deg; angles are in "
+                              f"degrees (if {value:g} is in radians give "
+                              f"{math.degrees(value):.4g})", MaterialWarning, stacklevel=4)
 
     # --- derived quantities -------------------------------------------------------------
     @property
@@ -179,10 +202,12 @@ class Material:
             return None if value is None else value / factor
 
         phi = angle(self.phi)
-        return replace(self, cohesion=self.cohesion / factor, phi=phi,
-                       psi=min(angle(self.psi), phi), plastic=self.is_plastic,
-                       tensile_strength=divided(self.tensile_strength),
-                       interface_cohesion=divided(self.interface_cohesion),
-                       interface_phi=angle(self.interface_phi),
-                       interface_tensile_strength=divided(self.interface_tensile_strength),
-                       contact_phi=angle(self.contact_phi))
+        with warnings.catch_warnings():  # reduced angles are degrees, whatever their size
+            warnings.simplefilter("ignore", MaterialWarning)
+            return replace(self, cohesion=self.cohesion / factor, phi=phi,
+                           psi=min(angle(self.psi), phi), plastic=self.is_plastic,
+                           tensile_strength=divided(self.tensile_strength),
+                           interface_cohesion=divided(self.interface_cohesion),
+                           interface_phi=angle(self.interface_phi),
+                           interface_tensile_strength=divided(self.interface_tensile_strength),
+                           contact_phi=angle(self.contact_phi))

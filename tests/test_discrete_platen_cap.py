@@ -91,10 +91,10 @@ def test_material_contact_damping():
     with the parameter named."""
     from hybrid.discrete.state import material_rows
 
-    m = Material("sand", E=7e4, nu=0.3, unit_weight=18.0, phi=30.0, contact_damping=0.2)
+    m = Material(name="sand", E=7e4, nu=0.3, unit_weight=18.0, phi=30.0, contact_damping=0.2)
     assert material_rows([m], 0.5)[4][0, 3] == 0.2
     with pytest.raises(MaterialError, match="contact_damping"):
-        Material("sand", E=7e4, nu=0.3, unit_weight=18.0, phi=30.0, contact_damping=1.5)
+        Material(name="sand", E=7e4, nu=0.3, unit_weight=18.0, phi=30.0, contact_damping=1.5)
 
 
 def test_frozen_elements_do_not_limit_the_time_step():

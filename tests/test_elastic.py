@@ -28,7 +28,7 @@ def test_c2_oedometric_column(builder, cells):
     """
     H, gamma, nu, E = 10.0, 19.0, 0.3, 20_000.0
     mesh = build_mesh(builder("block"), width=2.0, height=H, nx=2, ny=8, cells=cells)
-    soil = Material("soil", E=E, nu=nu, unit_weight=gamma)
+    soil = Material(name="soil", E=E, nu=nu, unit_weight=gamma)
     model = Model(mesh, {"soil": soil}, supports=[Roller("base", "y"), Roller("left", "x"),
                                                   Roller("right", "x")])
     state = solve_elastic(model, gravity=True, degree=2)

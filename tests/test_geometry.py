@@ -56,7 +56,7 @@ def test_named_groups_and_cell_types(builder, cells):
 def test_two_materials_by_name():
     mesh = build_mesh(_two_squares)
     assert set(mesh.cell_groups) == {"left_soil", "right_soil"}
-    clay, sand = Material("clay", E=1e4, nu=0.3), Material("sand", E=5e4, nu=0.25)
+    clay, sand = Material(name="clay", E=1e4, nu=0.3), Material(name="sand", E=5e4, nu=0.25)
     model = Model(mesh, {"left_soil": clay, "right_soil": sand}, supports=[Fixed("base")])
     E = model.cell_property("E")
     x, nodes = mesh.cell_vertices()
@@ -86,7 +86,7 @@ def test_empty_group_refused():
 
 def test_unknown_names_refused(builder):
     mesh = build_mesh(builder("block"))
-    soil = Material("soil", E=1e4, nu=0.3)
+    soil = Material(name="soil", E=1e4, nu=0.3)
     with pytest.raises(ModelError, match="unknown boundary .*'bottom'.*base, left, right, top"):
         Model(mesh, {"soil": soil}, supports=[Fixed("bottom")])
     with pytest.raises(ModelError, match="unknown cell group 'clay'"):

@@ -133,7 +133,7 @@ def test_handover_of_a_staged_state():
 
     mesh = build_mesh(load_builder(MESHES / "layers.py"), width=4.0, lift_thickness=1.0,
                       lifts=4)
-    fill = Material("fill", E=2e4, nu=0.3, unit_weight=20.0, cohesion=20.0, phi=30.0)
+    fill = Material(name="fill", E=2e4, nu=0.3, unit_weight=20.0, cohesion=20.0, phi=30.0)
     names = [f"lift{k + 1}" for k in range(4)]
     model = Model(mesh, dict.fromkeys(names, fill),
                   supports=[Fixed("base"), Roller("left", "x"), Roller("right", "x")])

@@ -81,13 +81,13 @@ def test_c10_staged_construction(case, tmp_path):
 
 def test_invalid_inputs(builder):
     with pytest.raises(MaterialError, match="phi = 90"):
-        Material("sand", E=1e4, nu=0.3, phi=90.0)
+        Material(name="sand", E=1e4, nu=0.3, phi=90.0)
     with pytest.raises(MaterialError, match="psi = 35"):
-        Material("sand", E=1e4, nu=0.3, phi=30.0, psi=35.0)
+        Material(name="sand", E=1e4, nu=0.3, phi=30.0, psi=35.0)
     with pytest.raises(MaterialError, match="cohesion = -1"):
-        Material("clay", E=1e4, nu=0.3, cohesion=-1.0, phi=10.0)
+        Material(name="clay", E=1e4, nu=0.3, cohesion=-1.0, phi=10.0)
     mesh = build_mesh(builder("block"), width=2.0, height=2.0, nx=2, ny=2)
-    model = Model(mesh, {"soil": Material("soil", E=1e4, nu=0.3, cohesion=10.0)},
+    model = Model(mesh, {"soil": Material(name="soil", E=1e4, nu=0.3, cohesion=10.0)},
                   supports=[Fixed("base"), Roller("left", "x")])
     solver = PlasticSolver(model, degree=1)
     with pytest.raises(GeometryError, match="unknown cell .*'embankment'"):
@@ -100,7 +100,7 @@ def test_k0_initial_state_is_in_equilibrium(builder):
     gravity settlement) and the stress stays sigma_v = -gamma z, sigma_h = K0 sigma_v."""
     H, gamma = 6.0, 18.0
     mesh = build_mesh(builder("block"), width=3.0, height=H, nx=3, ny=6)
-    soil = Material("soil", E=2e4, nu=0.3, unit_weight=gamma, cohesion=20.0, phi=25.0)
+    soil = Material(name="soil", E=2e4, nu=0.3, unit_weight=gamma, cohesion=20.0, phi=25.0)
     model = Model(mesh, {"soil": soil}, supports=[Fixed("base"), Roller("left", "x"),
                                                   Roller("right", "x")])
     solver = PlasticSolver(model, degree=2)

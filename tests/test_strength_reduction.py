@@ -108,7 +108,7 @@ def test_slope_that_cannot_stand_stops_with_a_message(tmp_path):
 def _steep_weak_slope(builder, cohesion: float = 2.0) -> Model:
     mesh = build_mesh(builder("slope"), height=10.0, angle=60.0, foundation_depth=0.0,
                       toe_x=0.0, crest_length=6.0, size=2.0)
-    soil = Material("soil", E=5e4, nu=0.3, unit_weight=20.0, cohesion=cohesion, phi=5.0)
+    soil = Material(name="soil", E=5e4, nu=0.3, unit_weight=20.0, cohesion=cohesion, phi=5.0)
     return Model(mesh, {"soil": soil}, supports=[Fixed("base"), Roller("right", "x")])
 
 
@@ -177,7 +177,7 @@ def test_strength_factor_reaches_the_discrete_phase(builder):
     from hybrid.handover import to_discrete
 
     mesh = build_mesh(builder("block"), width=2.0, height=1.0, nx=4, ny=2)
-    soil = Material("soil", E=1e4, nu=0.3, unit_weight=18.0, cohesion=12.0, phi=30.0)
+    soil = Material(name="soil", E=1e4, nu=0.3, unit_weight=18.0, cohesion=12.0, phi=30.0)
     model = Model(mesh, {"soil": soil}, supports=[Fixed("base"), Roller("left", "x")])
     solver = PlasticSolver(model, degree=1)
     solver.apply_gravity().require()
@@ -204,7 +204,7 @@ def test_bishop_of_a_mesh_section(builder):
 
     mesh = build_mesh(builder("slope"), height=10.0, angle=math.degrees(math.atan(0.5)),
                       foundation_depth=0.0, toe_x=0.0, crest_length=12.0, size=1.0)
-    soil = Material("soil", E=1e5, nu=0.3, unit_weight=20.0, cohesion=10.0, phi=20.0)
+    soil = Material(name="soil", E=1e5, nu=0.3, unit_weight=20.0, cohesion=10.0, phi=20.0)
     model = Model(mesh, {"soil": soil}, supports=[Fixed("base"), Roller("right", "x")])
     surface, lookup, floor = section_of(model)
     assert floor == 0.0
@@ -301,7 +301,7 @@ def test_an_increment_that_moves_too_far_is_rejected(builder):
     that does not converge (a mechanism's amplitude is arbitrary): with a 1 nm limit even the
     elastic self-weight cannot be placed; with the default (half the smallest edge) it can."""
     mesh = build_mesh(builder("block"), width=2.0, height=1.0, nx=4, ny=2)
-    soil = Material("soil", E=1e4, nu=0.3, unit_weight=18.0, cohesion=12.0, phi=30.0)
+    soil = Material(name="soil", E=1e4, nu=0.3, unit_weight=18.0, cohesion=12.0, phi=30.0)
     model = Model(mesh, {"soil": soil}, supports=[Fixed("base"), Roller("left", "x")])
     tight = PlasticSolver(model, degree=1, options=NewtonOptions(max_displacement=1e-9,
                                                                  min_increment=0.1))
@@ -317,7 +317,7 @@ def test_section_of_a_quadrilateral_mesh(builder):
 
     mesh = build_mesh(builder("block"), width=4.0, height=2.0, nx=4, ny=2,
                       cells="quadrilateral")
-    soil = Material("soil", E=1e4, nu=0.3, unit_weight=18.0, cohesion=12.0, phi=30.0)
+    soil = Material(name="soil", E=1e4, nu=0.3, unit_weight=18.0, cohesion=12.0, phi=30.0)
     model = Model(mesh, {"soil": soil}, supports=[Fixed("base")])
     surface, lookup, floor = section_of(model)
     assert floor == 0.0 and np.allclose(surface[:, 1], 2.0)
@@ -332,7 +332,7 @@ def test_monitor_point(builder):
 
     mesh = build_mesh(builder("slope"), height=10.0, angle=math.degrees(math.atan(0.5)),
                       foundation_depth=0.0, toe_x=0.0, crest_length=12.0, size=2.0)
-    soil = Material("soil", E=1e5, nu=0.3, unit_weight=20.0, cohesion=10.0, phi=20.0,
+    soil = Material(name="soil", E=1e5, nu=0.3, unit_weight=20.0, cohesion=10.0, phi=20.0,
                     psi=20.0)
     model = Model(mesh, {"soil": soil}, supports=[Fixed("base"), Roller("right", "x")])
     result = factor_of_safety(PlasticSolver(model, degree=2), gravity_steps=2,
