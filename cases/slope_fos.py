@@ -127,10 +127,8 @@ def main(out: str | Path = "results/slope_fos", **overrides: Any) -> dict:
         "mechanism_confirmed": runs[-1]["mechanism_confirmed"],
         "cells": runs[-1]["cells"], "newton_iterations": runs[-1]["newton_iterations"],
         "wall_time_s": runs[-1]["wall_time_s"], "meshes": runs,
-        "bishop": {"F": bishop.factor, "centre_m": list(bishop.centre),
-                   "radius_m": bishop.radius, "entry_x_m": bishop.entry,
-                   "exit_x_m": bishop.exit, "method": "Bishop (1955) simplified, circles "
-                   "from an entry-and-exit search, no slip below the rigid base"},
+        "bishop": {**bishop.as_dict(), "method": "Bishop (1955) simplified, circles from an "
+                   "entry-and-exit search, no slip below the rigid base"},
         "published": (f"F = {PUBLISHED_F} ({source})" if published
                       else "no reference for these parameters"),
         "checks": checks,

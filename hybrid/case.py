@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
-import importlib.util
 import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
@@ -16,6 +15,7 @@ from types import ModuleType
 from typing import Any
 
 from hybrid.errors import StageIncomplete
+from hybrid.scripts import import_script
 
 __all__ = ["CaseError", "parse_overrides", "load_case", "run_case", "case_arguments",
            "uses_defaults"]
@@ -75,11 +75,7 @@ def load_case(path: str | Path) -> ModuleType:
     path = Path(path)
     if not path.is_file():
         raise CaseError(f"case script '{path}' not found")
-    spec = importlib.util.spec_from_file_location(f"hybrid_case_{path.stem}", path)
-    assert spec is not None and spec.loader is not None
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[spec.name] = module
-    spec.loader.exec_module(module)
+    module = import_script(path, "hybrid_case")
     for name in ("main", "Parameters"):
         if not hasattr(module, name):
             raise CaseError(f"case script '{path}' defines no '{name}'")

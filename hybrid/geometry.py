@@ -9,17 +9,20 @@ no empty group) and keeps the names next to the integer tags.
 from __future__ import annotations
 
 import contextlib
-import importlib.util
 import logging
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass
 from pathlib import Path
+from types import ModuleType
 from typing import Any
 
 import numpy as np
 from mpi4py import MPI
 
-__all__ = ["GeometryError", "MeshData", "build_mesh", "mesh_from_gmsh", "read_msh", "load_builder"]
+from hybrid.scripts import import_script
+
+__all__ = ["GeometryError", "MeshData", "build_mesh", "mesh_from_gmsh", "read_msh", "load_builder",
+           "load_mesh_script"]
 
 log = logging.getLogger(__name__)
 
@@ -248,14 +251,18 @@ def read_msh(path: str | Path, comm: MPI.Comm = MPI.COMM_WORLD) -> MeshData:
         return mesh_from_gmsh(comm)
 
 
+def load_mesh_script(script: str | Path) -> ModuleType:
+    """Import a gmsh script in ``meshes/`` by path (its builder and whatever else it
+    defines, e.g. the dimensions of the section it meshes)."""
+    script = Path(script)
+    if not script.is_file():
+        raise GeometryError(f"gmsh script '{script}' not found")
+    return import_script(script, "hybrid_mesh")
+
+
 def load_builder(script: str | Path, name: str = "build") -> Callable[..., None]:
     """Load the function ``name`` from a gmsh script in ``meshes/`` (by path)."""
-    script = Path(script)
-    spec = importlib.util.spec_from_file_location(f"hybrid_mesh_{script.stem}", script)
-    if spec is None or spec.loader is None or not script.is_file():
-        raise GeometryError(f"gmsh script '{script}' not found")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
+    module = load_mesh_script(script)
     if not hasattr(module, name):
         raise GeometryError(f"gmsh script '{script}' defines no function '{name}'")
     return getattr(module, name)

@@ -405,6 +405,11 @@ class SlipCircle(NamedTuple):
     exit: float
     method: str = "bishop"
 
+    def as_dict(self) -> dict[str, Any]:
+        """The figures for a summary: F, centre, radius, entry and exit x [m]."""
+        return {"F": self.factor, "centre_m": list(self.centre), "radius_m": self.radius,
+                "entry_x_m": self.entry, "exit_x_m": self.exit}
+
     def arc(self, n: int = 100) -> np.ndarray:
         """(n, 2) points of the slip surface from entry to exit [m]."""
         x = np.linspace(self.entry, self.exit, n)

@@ -11,16 +11,16 @@ boot in a key trench), "zone_I" (inner shoulders, a 1:1 wedge beside the core), 
 "right", "crest", "surface" (every free surface: ground, slopes, berm, crest).
 
 Construction lifts: every region above the foundation is cut by the horizontal lines at the
-lift tops (:func:`lift_tops`), so each cell lies in one lift; :func:`lift_of` gives the lift
-(1 ... n) of a fill cell from its centroid elevation (the boot in the key trench is lift 1;
-the foundation and the yellow clay are in place before construction).
+lift tops (:func:`lift_tops`), so each cell lies in one lift, the lift of its centroid's
+elevation (``hybrid.continuum.staging.split_into_lifts``; the boot in the key trench is lift
+1; the foundation and the yellow clay are in place before construction).
 """
 
 from dataclasses import dataclass
 
 from hybrid.geometry import physical_group, quad_options
 
-__all__ = ["Section", "build", "lift_tops", "lift_of"]
+__all__ = ["Section", "build", "lift_tops"]
 
 _NAMES = ("foundation", "yellow_clay", "core", "zone_I", "zone_II", "berm")
 
@@ -154,14 +154,6 @@ def lift_tops(crest_level: float = 200.5, berm_top: float = 175.6,
         return [crest_level]
     dh = (crest_level - berm_top) / (lifts - 1)
     return [berm_top + k * dh for k in range(lifts - 1)] + [crest_level]
-
-
-def lift_of(y: float, tops: list[float]) -> int:
-    """Lift (1-based) of fill whose centroid is at elevation y [m OD]."""
-    for k, top in enumerate(tops):
-        if y < top:
-            return k + 1
-    return len(tops)
 
 
 def _polygon(occ, points: list[tuple[float, float]]) -> int:

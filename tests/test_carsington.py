@@ -6,6 +6,7 @@ import meshio
 import numpy as np
 import pytest
 
+from hybrid.continuum.staging import lift_groups, split_into_lifts
 from hybrid.geometry import build_mesh
 
 GROUPS = {"foundation", "yellow_clay", "core", "zone_I", "zone_II", "berm"}
@@ -46,11 +47,11 @@ def test_section_groups_areas_and_lifts(case):
     tops = sm.lift_tops(section.crest_level, section.berm_top, section.lifts)
     assert len(tops) == 6 and tops[0] == section.berm_top and tops[-1] == section.crest_level
     assert sm.lift_tops(lifts=1) == [section.crest_level]
-    staged = cars.staged_mesh(mesh, tops)
+    staged = split_into_lifts(mesh, cars.EMBANKMENT, tops)
     assert sum(len(staged.cells(g)) for g in staged.cell_groups) == mesh.num_owned_cells
     bottom = section.foundation_level - section.trench_depth
     for k, top in enumerate(tops, start=1):
-        groups = cars.lift_groups(staged, k)
+        groups = lift_groups(staged, k)
         assert {f"core:{k}", f"zone_I:{k}", f"zone_II:{k}"} <= set(groups)
         assert ("berm:1" in groups) == (k == 1)  # the berm is complete in the first lift
         # no cell straddles a lift top

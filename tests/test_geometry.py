@@ -1,9 +1,18 @@
 """gmsh -> dolfinx: named groups, both cell types, clear errors for bad meshes."""
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
-from hybrid.geometry import GeometryError, build_mesh, physical_group, read_msh
+from hybrid.geometry import (
+    GeometryError,
+    build_mesh,
+    load_builder,
+    load_mesh_script,
+    physical_group,
+    read_msh,
+)
 from hybrid.materials import Material
 from hybrid.model import Fixed, Model, ModelError, Pressure
 
@@ -113,3 +122,16 @@ def test_read_msh_file(tmp_path):
     assert set(mesh.facet_groups) == {"base"}
     with pytest.raises(GeometryError, match="does not exist"):
         read_msh(tmp_path / "missing.msh")
+
+
+def test_load_mesh_script(tmp_path):
+    """A gmsh script loads whole (its builder and what else it defines) or names the file."""
+    meshes = Path(__file__).resolve().parent.parent / "meshes"
+    section = load_mesh_script(meshes / "carsington.py")
+    assert callable(section.build) and section.Section().lifts == 6
+    assert load_builder(meshes / "carsington.py").__name__ == "build"
+    with pytest.raises(GeometryError, match="not found"):
+        load_mesh_script(tmp_path / "missing.py")
+    (tmp_path / "empty.py").write_text("")
+    with pytest.raises(GeometryError, match="defines no function 'build'"):
+        load_builder(tmp_path / "empty.py")

@@ -316,3 +316,9 @@ def test_critical_circle_of_a_berm_does_not_depend_on_the_grid():
     assert found[0].exit < -10.0  # out on the berm top: a berm slip, not the main slope
     for circle in found[1:]:
         assert circle.factor == pytest.approx(found[0].factor, rel=1e-6)
+
+
+def test_slip_circle_as_dict():
+    circle = ref.SlipCircle(1.25, (3.0, 12.0), 10.0, -4.0, 9.0)
+    assert circle.as_dict() == {"F": 1.25, "centre_m": [3.0, 12.0], "radius_m": 10.0,
+                                "entry_x_m": -4.0, "exit_x_m": 9.0}

@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 import ufl
 from dolfinx import fem
+from mpi4py import MPI
 
 from hybrid.continuum.fields import Discretisation
 from hybrid.continuum.probe import evaluate
@@ -67,11 +68,11 @@ class ContinuumState:
 
     def cell_stress(self) -> np.ndarray:
         """Area-weighted mean stress of every owned cell (n_owned_cells, 4) [kPa]."""
-        return self._cell_mean(self.stress)
+        return self.cell_mean(self.stress)
 
     def cell_plastic_strain(self) -> np.ndarray:
         """Area-weighted mean plastic strain of every owned cell (n_owned_cells,)."""
-        return self._cell_mean(self.plastic_strain[..., None])[:, 0]
+        return self.cell_mean(self.plastic_strain[..., None])[:, 0]
 
     def cell_displacement(self, values: np.ndarray | None = None) -> np.ndarray:
         """Area-weighted mean displacement of every owned cell (n_owned_cells, 2) [m].
@@ -83,17 +84,36 @@ class ContinuumState:
         if values is not None:
             field = self.u.copy()
             field.x.array[:] = values
-        return self._cell_mean(evaluate_at_points(self.disc, field))
+        return self.cell_mean(evaluate_at_points(self.disc, field))
 
     def yielded_cells(self, threshold: float = 0.0) -> np.ndarray:
         """Owned cells with a yielded point or mean plastic strain above ``threshold``."""
         return np.flatnonzero(np.any(self.yielded > 0, axis=1)
                               | (self.cell_plastic_strain() > threshold))
 
-    def _cell_mean(self, values: np.ndarray) -> np.ndarray:
+    def cell_mean(self, values: np.ndarray) -> np.ndarray:
+        """Area-weighted cell means (n_owned_cells, k) of quadrature-point values
+        (n_owned_cells, nqp, k)."""
         jac = evaluate_at_points(self.disc, abs(ufl.JacobianDeterminant(self.mesh)))[..., 0]
         w = jac * self.disc.weights[None, :]
         return np.einsum("cq,cqk->ck", w, values) / w.sum(axis=1)[:, None]
+
+    def extreme_displacement(self, component: int, *, largest: bool = False,
+                             cells: np.ndarray | None = None) -> float:
+        """Smallest (or ``largest``) cell-mean displacement component (0: x, 1: y) [m] over
+        ``cells`` (owned cell indices; None: all), all MPI ranks (collective)."""
+        u = self.cell_displacement()[:, component]
+        if cells is not None:
+            u = u[cells]
+        if largest:
+            return self.comm.allreduce(float(np.max(u, initial=-np.inf)), op=MPI.MAX)
+        return self.comm.allreduce(float(np.min(u, initial=np.inf)), op=MPI.MIN)
+
+    def yielded_fraction(self, cells: np.ndarray) -> float:
+        """Fraction of ``cells`` (owned cell indices) among :meth:`yielded_cells`, all MPI
+        ranks (collective); 0 when there are none."""
+        hit = int(np.isin(self.yielded_cells(), cells).sum())
+        return self.comm.allreduce(hit) / max(self.comm.allreduce(len(cells)), 1)
 
     def stress_function(self) -> Any:
         """Stress projected on discontinuous Lagrange of degree - 1 (DG0 for degree 1) [kPa]."""

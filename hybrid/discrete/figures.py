@@ -5,13 +5,15 @@ Units: m for coordinates; the colour field in its own unit (kPa for stresses, - 
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
 from hybrid.discrete.state import DiscreteState
 
-__all__ = ["plot_configuration", "failed_segments"]
+__all__ = ["plot_configuration", "failed_segments", "Snapshots"]
 
 
 def failed_segments(state: DiscreteState, *, reference: bool = False) -> np.ndarray:
@@ -71,3 +73,26 @@ def plot_configuration(path: str | Path, state: DiscreteState, *, title: str = "
     fig.savefig(path)
     plt.close(fig)
     return path
+
+
+class Snapshots:
+    """``on_check`` callback of :func:`hybrid.discrete.run.run`: a :func:`plot_configuration`
+    PNG ``{prefix}{t:g}.png`` in ``out`` when the time first reaches each of ``times`` [s].
+
+    ``title`` is formatted with the state's ``time``; ``paths`` lists the files written; the
+    other keywords go to :func:`plot_configuration`. Never stops the run.
+    """
+
+    def __init__(self, out: str | Path, times: Sequence[float], *, prefix: str = "t",
+                 title: str = "t = {time:.3g} s", **options: Any) -> None:
+        self.out, self.times, self.prefix = Path(out), sorted(times), prefix
+        self.title, self.options = title, options
+        self.paths: list[Path] = []
+
+    def __call__(self, state: DiscreteState) -> bool:
+        while self.times and state.time >= self.times[0]:
+            self.paths.append(plot_configuration(
+                self.out / f"{self.prefix}{self.times[0]:g}.png", state,
+                title=self.title.format(time=state.time), **self.options))
+            self.times.pop(0)
+        return False

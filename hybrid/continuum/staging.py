@@ -1,0 +1,180 @@
+"""Staged construction: cell groups split into lifts, placed one by one, strain from placement.
+
+:func:`split_into_lifts` cuts named cell groups into lifts by the elevation of each cell's
+centroid ("core" -> "core:1", "core:2", ...); :func:`build_in_lifts` places the lifts one
+after another on a :class:`~hybrid.continuum.plastic.PlasticSolver` (each stress-free, its
+weight ramped in), with an optional strength-reduction factor of safety after each, and stops
+at the first lift whose full weight finds no equilibrium (the collapse). :class:`PlacementStrain`
+counts the strain of the fill from its placement, which the total displacement cannot give (a
+lift's nodes start at zero while the nodes at its base have already moved).
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from dolfinx import fem
+from mpi4py import MPI
+
+from hybrid.continuum.fields import strain
+from hybrid.continuum.plastic import PlasticSolver, largest_nodal_norm
+from hybrid.continuum.state import ContinuumState
+from hybrid.continuum.strength_reduction import SafetyResult, StrengthSearch, factor_of_safety
+from hybrid.geometry import GeometryError, MeshData
+
+__all__ = ["split_into_lifts", "lift_groups", "PlacementStrain", "Construction",
+           "build_in_lifts"]
+
+_STRIDE = 100  # tag of lift k of a group tagged t: _STRIDE * t + k
+
+
+def split_into_lifts(mesh: MeshData, groups: Sequence[str], tops: Sequence[float]) -> MeshData:
+    """The mesh with each of ``groups`` split into lifts "name:1" ... "name:n".
+
+    ``tops``: rising top elevations of the n lifts [m]. A cell is in the first lift whose top
+    is above its centroid (above the last top: the last lift); cut the geometry at the tops so
+    that no cell straddles two lifts. The other groups keep their names; a lift without cells
+    has no group. Same dolfinx mesh, new cell tags; collective under MPI.
+    """
+    from dolfinx.mesh import compute_midpoints, meshtags
+
+    tops = np.asarray(tops, dtype=float)
+    if not 0 < len(tops) < _STRIDE or np.any(np.diff(tops) <= 0.0):
+        raise ValueError(f"lift tops {tops.tolist()}: 1 to {_STRIDE - 1} rising elevations")
+    msh, tags = mesh.mesh, mesh.cell_tags
+    mid = compute_midpoints(msh, 2, tags.indices)
+    lift = (np.minimum(np.searchsorted(tops, mid[:, 1], side="right"), len(tops) - 1)
+            + 1).astype(np.int32)
+    names = {tag: name for name, tag in mesh.cell_groups.items()}
+    split = [mesh.cell_tag(g) for g in groups]
+    kept = set(names) - set(split)
+    if any(_STRIDE * t + k in kept for t in split for k in range(1, len(tops) + 1)):
+        raise GeometryError(f"cell tags {sorted(kept)} clash with the tags of the lifts")
+    values = np.where(np.isin(tags.values, split), _STRIDE * tags.values + lift,
+                      tags.values).astype(np.int32)
+    present = np.unique(np.concatenate(mesh.comm.allgather(np.unique(values)))).tolist()
+    new = {(names[v] if v in kept else f"{names[v // _STRIDE]}:{v % _STRIDE}"): v
+           for v in present}
+    return MeshData(msh, meshtags(msh, 2, tags.indices, values), mesh.facet_tags, new,
+                    mesh.facet_groups, mesh.cell_type)
+
+
+def lift_groups(mesh: MeshData, lift: int) -> list[str]:
+    """Cell groups of one lift (1-based) of a :func:`split_into_lifts` mesh, sorted."""
+    return sorted(g for g in mesh.cell_groups if g.endswith(f":{lift}"))
+
+
+class PlacementStrain:
+    """Strain counted from placement: the sum over stages of eps(du) at the quadrature points
+    of the cells active in each stage, ``total`` (n_owned_cells, nqp, 4) [-] (Voigt, as the
+    stress)."""
+
+    def __init__(self, solver: PlasticSolver) -> None:
+        self.solver = solver
+        self.du = fem.Function(solver.disc.V)
+        self.expr = fem.Expression(strain(self.du), solver.disc.points)
+        self.total = np.zeros((solver.sspace.num_cells, solver.disc.num_points, 4))
+
+    def add(self, du: np.ndarray) -> None:
+        """Add the strain of a displacement increment (dof values) in the active cells."""
+        self.du.x.array[:] = du
+        self.du.x.scatter_forward()
+        values = self.expr.eval(np.arange(self.total.shape[0], dtype=np.int32))
+        active = self.solver.active
+        self.total[active] += values.reshape(self.total.shape)[active]
+
+    def cell_mean(self, state: ContinuumState) -> np.ndarray:
+        """Area-weighted cell means (n_owned_cells, 4) [-]."""
+        return state.cell_mean(self.total)
+
+
+@dataclass
+class Construction:
+    """What :func:`build_in_lifts` did.
+
+    Attributes:
+        stages: one record per lift tried (see :func:`build_in_lifts`).
+        completed: every lift carried its full weight.
+        max_unplaced_stress: largest |stress| in lifts not yet placed, after any lift [kPa]
+            (zero when staging works).
+        strain: the strain from placement at the end.
+        safety: the last factor of safety (None when none was asked for).
+        safety_active: the cells in place when it was found.
+        safety_wall_time: seconds spent in the strength reduction.
+        before_collapse: when a lift collapsed, the solver's snapshot of the last complete
+            lift (``PlasticSolver.restore`` it); None when every lift was placed.
+    """
+
+    stages: list[dict[str, Any]]
+    completed: bool
+    max_unplaced_stress: float
+    strain: PlacementStrain
+    safety: SafetyResult | None
+    safety_active: np.ndarray
+    safety_wall_time: float
+    before_collapse: tuple | None
+
+
+def build_in_lifts(solver: PlasticSolver, mesh: MeshData, tops: Sequence[float],
+                   base_level: float, *, steps: int = 1, safety: StrengthSearch | None = None,
+                   safety_every_lift: bool = True, unit: str = "m") -> Construction:
+    """Place the lifts of a :func:`split_into_lifts` ``mesh`` one by one (``activate``, the
+    weight in ``steps`` increments) up to the last or to the first that collapses.
+
+    ``safety``: after every complete lift (or the last only, ``safety_every_lift=False``) a
+    strength-reduction factor of safety with this search, from that lift's state, which is
+    restored afterwards. Each stage record holds: "lift", "top_<unit>", "completed",
+    "weight_placed" (fraction with equilibrium), "fill_level_<unit>" (the level that
+    fraction of the lift reaches, from ``base_level`` below the first lift),
+    "newton_iterations", "step_cuts", "wall_time_s", "yielded_cells", "max_displacement_m"
+    (all ranks) and, with ``safety``, "factor_of_safety", "fos_wall_time_s"; ``unit`` names
+    the elevations' unit in the keys (e.g. "m_OD").
+    """
+    comm, lifts = mesh.comm, len(tops)
+    if lifts == 0:
+        raise ValueError("build_in_lifts: no lift tops given")
+    placement = PlacementStrain(solver)
+    stages: list[dict[str, Any]] = []
+    result: SafetyResult | None = None
+    safety_active = solver.active.copy()
+    leak, fos_time, before = 0.0, 0.0, None
+    for k in range(1, lifts + 1):
+        t0, it0 = time.perf_counter(), solver.iterations_total
+        u0 = solver.u.x.array.copy()
+        before = solver.snapshot()
+        analysis = solver.activate(lift_groups(mesh, k), steps=steps)
+        bottom = base_level if k == 1 else tops[k - 2]
+        stage: dict[str, Any] = {
+            "lift": k, f"top_{unit}": tops[k - 1], "completed": analysis.completed,
+            "weight_placed": analysis.factor,
+            f"fill_level_{unit}": bottom + analysis.factor * (tops[k - 1] - bottom),
+            "newton_iterations": solver.iterations_total - it0, "step_cuts": analysis.cuts,
+            "wall_time_s": time.perf_counter() - t0}
+        stages.append(stage)
+        placement.add(solver.u.x.array - u0)
+        later = [mesh.cells(g) for j in range(k + 1, lifts + 1) for g in lift_groups(mesh, j)]
+        s = solver.stress.reshape(solver.sspace.num_cells, -1, 4)
+        s_later = s[np.concatenate(later)] if later else s[:0]
+        leak = max(leak, comm.allreduce(float(np.max(np.abs(s_later), initial=0.0)),
+                                        op=MPI.MAX))
+        stage["yielded_cells"] = comm.allreduce(int(np.sum(np.any(
+            solver.yielded.reshape(solver.sspace.num_cells, -1) > 0, axis=1))))
+        stage["max_displacement_m"] = largest_nodal_norm(solver.u.x.array, comm)
+        if not analysis.completed:
+            break
+        if safety is not None and (safety_every_lift or k == lifts):
+            t0 = time.perf_counter()
+            snap = solver.snapshot()
+            result = factor_of_safety(solver, search=safety)
+            solver.restore(snap)
+            safety_active = solver.active.copy()
+            fos_time += time.perf_counter() - t0
+            stage["factor_of_safety"] = result.factor
+            stage["fos_wall_time_s"] = time.perf_counter() - t0
+    completed = stages[-1]["completed"] and len(stages) == lifts
+    return Construction(stages, completed, leak, placement, result, safety_active, fos_time,
+                        None if completed else before)

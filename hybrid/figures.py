@@ -1,0 +1,195 @@
+"""Standard figures of a continuum state: staged construction and strength reduction.
+
+Cell fields in a window with the cells not yet placed left blank, displacement vectors,
+profiles up a vertical line and through a column of cells, the strength-reduction mechanism
+with a slip circle. Built on :func:`hybrid.io.plot_cell_field` and
+:func:`hybrid.io.gather_cells`: every function is collective under MPI and writes from rank 0;
+each returns the paths written (none on the other ranks). Axes in m, stresses in kPa
+(tension positive); ``window`` = (xmin, xmax, ymin, ymax) [m].
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from pathlib import Path
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from hybrid.io import gather_cells, plot_cell_field
+
+__all__ = ["Column", "window_overlay", "construction_figures", "plot_displacement_vectors",
+           "plot_column_profiles", "safety_figures"]
+
+Window = tuple[float, float, float, float]
+
+
+class Column(NamedTuple):
+    """A vertical line at ``x`` from ``bottom`` to ``top`` [m] and a column of cells
+    (``cells``: mask of the owned cells) whose profiles :func:`plot_column_profiles` draws,
+    with grey lines at ``levels`` [m]; ``line`` and ``name`` name them in the labels."""
+
+    cells: np.ndarray
+    x: float
+    bottom: float
+    top: float
+    levels: Sequence[float] = ()
+    line: str = ""
+    name: str = "column"
+
+
+def window_overlay(window: Window) -> Callable[[Any], None]:
+    """Overlay for :func:`~hybrid.io.plot_cell_field` that crops the axes to ``window``."""
+    def crop(ax: Any) -> None:
+        ax.set_xlim(window[0], window[1])
+        ax.set_ylim(window[2], window[3])
+
+    return crop
+
+
+def _save(fig: Any, path: str | Path) -> Path:
+    """Lay out, write and close a matplotlib figure."""
+    import matplotlib.pyplot as plt
+
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+    return path
+
+
+def _cell_fields(out: Path, mesh: Any, fields: list[tuple], active: np.ndarray,
+                 overlay: Callable[[Any], None]) -> list[Path]:
+    """plot_cell_field of each (file name, values, title, label, colour map); cells not
+    ``active`` left blank; "RdBu_r" maps are symmetric about zero."""
+    paths = []
+    for name, values, title, label, cmap in fields:
+        path = plot_cell_field(out / name, mesh, np.where(active, 1.0, np.nan) * values,
+                               title=title, label=label, cmap=cmap,
+                               symmetric=(cmap == "RdBu_r"), overlay=overlay)
+        if path is not None:
+            paths.append(path)
+    return paths
+
+
+def construction_figures(out: str | Path, mesh: Any, state: Any, strain: np.ndarray, *,
+                         active: np.ndarray, window: Window, when: str,
+                         column: Column | None = None,
+                         prefix: str = "end_of_construction_") -> list[Path]:
+    """PNGs of ``state`` ("``when``" in the titles) with the cells not ``active`` (not
+    placed) left blank: ``{prefix}sigma_yy|sigma_xx|sigma_xy|yielded|vertical_strain.png``
+    (stress components, yielded zone, vertical strain since placement: ``strain``, cell means
+    (n_owned_cells, 4), e.g. :meth:`~hybrid.continuum.staging.PlacementStrain.cell_mean`),
+    ``{prefix}displacement_vectors.png`` and, with a ``column``,
+    ``{prefix}{column.name}_profiles.png`` (:func:`plot_column_profiles`)."""
+    out = Path(out)
+    stress = state.cell_stress()
+    fields = [(f"{prefix}{name}.png", stress[:, i], f"{name} [kPa], {when}",
+               f"{name} [kPa] (tension +)", cmap)
+              for i, name, cmap in ((1, "sigma_yy", "viridis"), (0, "sigma_xx", "viridis"),
+                                    (3, "sigma_xy", "RdBu_r"))]
+    fields += [(f"{prefix}yielded.png", np.any(state.yielded > 0, axis=1),
+                f"Yielded zone, {when}", "yielded (1) [-]", "Reds"),
+               (f"{prefix}vertical_strain.png", strain[:, 1],
+                f"Vertical strain from placement, {when}", "eps_yy [-]", "viridis")]
+    paths = _cell_fields(out, mesh, fields, active, window_overlay(window))
+    paths.append(plot_displacement_vectors(
+        out / f"{prefix}displacement_vectors.png", mesh, state, active=active, window=window,
+        title=f"Displacement vectors (from placement), {when}"))
+    if column is not None:
+        paths.append(plot_column_profiles(
+            out / f"{prefix}{column.name}_profiles.png", mesh, state, strain[:, 1], column,
+            title=f"{column.name.capitalize()}, {when} (grey lines: lift tops)"))
+    return [path for path in paths if path is not None]
+
+
+def plot_displacement_vectors(path: str | Path, mesh: Any, state: Any, *, active: np.ndarray,
+                              window: Window, title: str, longest: float = 6.0) -> Path | None:
+    """Cell-mean displacement vectors of the ``active`` cells whose centre lies in ``window``
+    (x inside, y above its bottom), coloured by |u|; the longest drawn ``longest`` m long."""
+    polys, vectors = gather_cells(mesh, state.cell_displacement())
+    _, placed = gather_cells(mesh, np.asarray(active, float))
+    if polys is None:
+        return None
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    centres = polys.mean(axis=1)
+    fig, ax = plt.subplots(figsize=(11, 4.5), dpi=120)
+    show = ((centres[:, 0] > window[0]) & (centres[:, 0] < window[1])
+            & (centres[:, 1] > window[2]) & (placed > 0.5))
+    magnitude = np.linalg.norm(vectors, axis=1)
+    q = ax.quiver(centres[show, 0], centres[show, 1], vectors[show, 0], vectors[show, 1],
+                  magnitude[show], cmap="viridis", angles="xy", scale_units="xy",
+                  scale=float(np.max(magnitude[show], initial=1e-12)) / longest, width=0.0015)
+    for poly in polys[show]:
+        ax.fill(poly[:, 0], poly[:, 1], facecolor="none", edgecolor="0.85", linewidth=0.2)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.set_title(f"{title}; longest = {longest:g} m on the plot")
+    fig.colorbar(q, ax=ax, label="|u| [m]", shrink=0.8)
+    return _save(fig, path)
+
+
+def plot_column_profiles(path: str | Path, mesh: Any, state: Any, strain_yy: np.ndarray,
+                         column: Column, *, title: str = "", samples: int = 80) -> Path | None:
+    """Two profiles against elevation: the horizontal displacement up the column's line
+    (``samples`` points, up to its highest cell) and the vertical compression -eps_yy
+    (``strain_yy``, per owned cell) of its cells."""
+    polys, eps = gather_cells(mesh, strain_yy)
+    _, flag = gather_cells(mesh, np.asarray(column.cells, float))
+    ys = np.linspace(column.bottom, column.top, samples)
+    u = state.displacement_at(np.column_stack([np.full_like(ys, column.x), ys]))
+    if polys is None:
+        return None
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(9, 5), dpi=120, sharey=True)
+    cells = flag > 0.5
+    placed = ys <= np.max(polys[cells, :, 1], initial=ys[0])
+    a1.plot(u[placed, 0] * 1000.0, ys[placed], "k-")
+    line = column.line or f"x = {column.x:g} m"
+    a1.set_xlabel(f"horizontal displacement at {line} [mm] (+ to the right)")
+    a1.set_ylabel("y [m]")
+    a2.plot(-eps[cells] * 100.0, polys[cells].mean(axis=1)[:, 1], "o", ms=2.5)
+    a2.set_xlabel(f"vertical compression -eps_yy, {column.name} cells [%]")
+    for ax in (a1, a2):
+        for level in column.levels:
+            ax.axhline(level, color="0.8", linewidth=0.5)
+        ax.grid(alpha=0.3)
+    fig.suptitle(title)
+    return _save(fig, path)
+
+
+def safety_figures(out: str | Path, mesh: Any, safety: Any, *, active: np.ndarray,
+                   window: Window, circle: Any = None, prefix: str = "fos_") -> list[Path]:
+    """``{prefix}plastic_strain.png`` at F and, when a reduction step converged,
+    ``{prefix}mechanism.png`` (|du| of the last step) of a
+    :class:`~hybrid.continuum.strength_reduction.SafetyResult`; cells not ``active`` left
+    blank; ``circle`` (a :class:`~hybrid.references.SlipCircle`) drawn dashed."""
+    crop = window_overlay(window)
+
+    def overlay(ax: Any) -> None:
+        crop(ax)
+        if circle is not None:
+            arc = circle.arc()
+            ax.plot(arc[:, 0], arc[:, 1], "r--", lw=1.2,
+                    label=f"critical circle (Bishop), F = {circle.factor:.2f}")
+            ax.legend(loc="lower left", fontsize=7)
+
+    state = safety.state
+    fields = [(f"{prefix}plastic_strain.png", state.cell_plastic_strain(),
+               f"Plastic strain at F = {safety.factor:.3f}", "plastic strain [-]", "magma_r")]
+    if any(ok for _, ok, _ in safety.trials):  # a reduction step converged: a mechanism
+        fields.append((f"{prefix}mechanism.png",
+                       np.linalg.norm(state.cell_displacement(safety.mechanism), axis=1),
+                       "Failure mechanism: displacement increment of the last reduction step",
+                       "|du| [m]", "viridis"))
+    return _cell_fields(Path(out), mesh, fields, active, overlay)

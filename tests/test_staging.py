@@ -1,0 +1,109 @@
+"""Staged construction helpers: groups split into lifts, placement lift by lift, strain from
+placement, MPI-safe reductions of a state, and the standard construction figures."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from hybrid.continuum.plastic import PlasticSolver
+from hybrid.continuum.staging import build_in_lifts, lift_groups, split_into_lifts
+from hybrid.continuum.strength_reduction import SafetyResult
+from hybrid.figures import Column, construction_figures, safety_figures
+from hybrid.geometry import GeometryError, build_mesh, load_builder
+from hybrid.materials import Material
+from hybrid.model import Fixed, Model, Roller
+from hybrid.references import SlipCircle
+
+E, NU, GAMMA = 10_000.0, 0.3, 20.0
+MESHES = Path(__file__).resolve().parent.parent / "meshes"
+M = E * (1 - NU) / ((1 + NU) * (1 - 2 * NU))  # constrained modulus [kPa]
+
+
+@pytest.fixture(scope="module")
+def column():
+    """A 2 m wide confined column: "lift1" (0-2 m) in place, "lift2" (2-4 m) built in two
+    lifts of 1 m."""
+    base = build_mesh(load_builder(MESHES / "layers.py"), width=2.0, lift_thickness=2.0,
+                      lifts=2)
+    mesh = split_into_lifts(base, ["lift2"], [3.0, 4.0])
+    soil = Material("soil", E=E, nu=NU, unit_weight=GAMMA)
+    model = Model(mesh, dict.fromkeys(mesh.cell_groups, soil),
+                  supports=[Fixed("base"), Roller("left", "x"), Roller("right", "x")])
+    solver = PlasticSolver(model, degree=2)
+    solver.set_active(["lift1"])
+    solver.apply_gravity().require()
+    solver.reset_displacement()
+    built = build_in_lifts(solver, mesh, [3.0, 4.0], 2.0, steps=2)
+    return base, mesh, solver, built
+
+
+def test_split_into_lifts(column):
+    base, mesh, _, _ = column
+    assert set(mesh.cell_groups) == {"lift1", "lift2:1", "lift2:2"}
+    assert lift_groups(mesh, 2) == ["lift2:2"]
+    assert lift_groups(mesh, 3) == []
+    x, cells = mesh.cell_vertices()
+    for name, (bottom, top) in {"lift1": (0.0, 2.0), "lift2:1": (2.0, 3.0),
+                                "lift2:2": (3.0, 4.0)}.items():
+        y = x[cells[mesh.cells(name)], 1]
+        assert len(y) and y.min() == pytest.approx(bottom) and y.max() == pytest.approx(top)
+    assert sorted(np.concatenate([mesh.cells(g) for g in mesh.cell_groups])) == list(
+        range(base.num_owned_cells))
+
+
+def test_split_into_lifts_refuses_bad_input(column):
+    base = column[0]
+    with pytest.raises(ValueError, match="rising"):
+        split_into_lifts(base, ["lift2"], [4.0, 3.0])
+    with pytest.raises(GeometryError, match="unknown cell"):
+        split_into_lifts(base, ["fill"], [4.0])
+
+
+def test_build_in_lifts_records_and_strain_from_placement(column):
+    _, mesh, solver, built = column
+    assert built.completed and built.before_collapse is None and built.safety is None
+    assert [st["lift"] for st in built.stages] == [1, 2]
+    assert [st["fill_level_m"] for st in built.stages] == [3.0, 4.0]
+    assert [st["top_m"] for st in built.stages] == [3.0, 4.0]
+    assert all(st["completed"] and st["weight_placed"] == 1.0 for st in built.stages)
+    assert built.max_unplaced_stress == 0.0
+    # confined column, strain from placement (1-D): the ground under 2 m of fill, lift 1 under
+    # its own weight and lift 2, lift 2 under its own weight only
+    state = solver.state()
+    eps = built.strain.cell_mean(state)[:, 1]
+    for name, expected in {"lift1": -2.0, "lift2:1": -1.5, "lift2:2": -0.5}.items():
+        np.testing.assert_allclose(eps[mesh.cells(name)], expected * GAMMA / M, rtol=1e-8)
+
+
+def test_state_reductions(column):
+    _, mesh, solver, _ = column
+    state = solver.state()
+    uy = state.cell_displacement()[:, 1]
+    assert state.extreme_displacement(1) == uy.min() < 0.0
+    assert state.extreme_displacement(1, largest=True) == uy.max()
+    top = mesh.cells("lift2:2")
+    assert state.extreme_displacement(1, cells=top) == uy[top].min()
+    assert state.yielded_fraction(top) == 0.0  # elastic
+
+
+def test_construction_and_safety_figures(column, tmp_path):
+    _, mesh, solver, built = column
+    state = solver.state()
+    eps = built.strain.cell_mean(state)
+    cells = np.zeros(mesh.num_owned_cells, bool)
+    cells[mesh.cells("lift2:1")] = True
+    window = (-1.0, 3.0, -1.0, 5.0)
+    paths = construction_figures(tmp_path, mesh, state, eps, active=state.active,
+                                 window=window, when="test",
+                                 column=Column(cells, 1.0, 0.1, 3.9, (3.0, 4.0), name="fill"))
+    names = {p.name for p in paths}
+    assert names == {f"end_of_construction_{n}.png" for n in (
+        "sigma_yy", "sigma_xx", "sigma_xy", "yielded", "vertical_strain",
+        "displacement_vectors", "fill_profiles")}
+    safety = SafetyResult(1.5, (1.5, 1.6), 1.0, trials=[(1.5, True, 3)], state=state,
+                          mechanism=state.u.x.array.copy())
+    paths = safety_figures(tmp_path, mesh, safety, active=state.active, window=window,
+                           circle=SlipCircle(1.4, (1.0, 5.0), 3.0, 0.0, 2.0))
+    assert [p.name for p in paths] == ["fos_plastic_strain.png", "fos_mechanism.png"]
+    assert all(p.is_file() and p.stat().st_size > 0 for p in paths)
