@@ -27,7 +27,7 @@ def column():
     base = build_mesh(load_builder(MESHES / "layers.py"), width=2.0, lift_thickness=2.0,
                       lifts=2)
     mesh = split_into_lifts(base, ["lift2"], [3.0, 4.0])
-    soil = Material("soil", E=E, nu=NU, unit_weight=GAMMA)
+    soil = Material(name="soil", E=E, nu=NU, unit_weight=GAMMA)
     model = Model(mesh, dict.fromkeys(mesh.cell_groups, soil),
                   supports=[Fixed("base"), Roller("left", "x"), Roller("right", "x")])
     solver = PlasticSolver(model, degree=2)
