@@ -14,11 +14,13 @@ import pytest
 from hybrid.discrete import contact
 from hybrid.discrete.contact import (
     carry_contact_history,
-    compute_contact_forces,
+    contact_forces,
     find_contact_pairs,
     overlap,
     rigid_contact_mass,
 )
+from hybrid.discrete.contact.forces import ContactBuffers, add_contact_forces
+from hybrid.discrete.contact.polygon import MAXV, overlap_geometry
 
 GEOM_TOL = 1e-12  # exact geometry, O(1) coordinates: round-off only
 
@@ -33,6 +35,21 @@ def rotated_square(cx, cy, s, theta):
     return np.array([cx, cy]) + local @ np.array([[c, sn], [-sn, c]])
 
 
+def random_pile(rng, n_el, span):
+    """A pile of ``n_el`` squares (sides 0.6-1 m) placed at random in [0, span]^2 and
+    rotated, with random velocities: (x, element_nodes, v, mass, material, contact_table)."""
+    polys = [
+        rotated_square(*rng.uniform(0, span, 2), rng.uniform(0.6, 1.0), rng.uniform(0, np.pi))
+        for _ in range(n_el)
+    ]
+    x = np.concatenate(polys)
+    en = np.arange(4 * n_el, dtype=np.int64).reshape(n_el, 4)
+    v = rng.normal(size=x.shape)
+    mass = np.full(4 * n_el, 0.25)
+    table = np.array([[1e5, 5e4, 0.6, 0.2]])
+    return x, en, v, mass, np.zeros(n_el, dtype=np.int32), table
+
+
 def two_body(pa, pb, kn=1e5, kt=2e4, mu=0.5, zeta=0.0, mass_a=1.0, mass_b=1.0):
     """Arrays for a two-element contact problem (A = element 0, B = element 1)."""
     nen = len(pa)
@@ -45,7 +62,7 @@ def two_body(pa, pb, kn=1e5, kt=2e4, mu=0.5, zeta=0.0, mass_a=1.0, mass_b=1.0):
 
 def run_pair(x, v, mass, en, mat, table, pairs, shear, dt=1e-3):
     force = np.zeros_like(x)
-    out = compute_contact_forces(x, v, mass, en, mat, table, pairs, shear, dt, force)
+    out = contact_forces(x, v, mass, en, mat, table, pairs, shear, dt, force)
     return force, out
 
 
@@ -128,14 +145,14 @@ def test_normal_is_area_gradient_random_pairs():
     # eps = 1e-6 is exact up to round-off ~1e-16/eps = 1e-10: tolerance 1e-6 relative.
     # Also G(A,B) = -G(B,A) and area(A,B) = area(B,A) (round-off: 1e-12).
     rng = np.random.default_rng(7)
-    work = np.empty((4, contact._MAXV, 3))
+    work = np.empty((4, MAXV, 3))
     eps = 1e-6
     checked = 0
     for _ in range(200):
         a = rotated_square(0, 0, rng.uniform(0.5, 1.5), rng.uniform(0, np.pi))
         a[rng.integers(4)] += rng.uniform(-0.15, 0.15, 2)  # distort (stays convex here)
         b = rotated_square(*rng.uniform(-0.8, 0.8, 2), rng.uniform(0.5, 1.5), rng.uniform(0, 3))
-        ar, _, _, gx, gy = contact._overlap_geometry(a, 4, b, 4, work)
+        ar, _, _, gx, gy = overlap_geometry(a, 4, b, 4, work)
         if ar < 1e-3:
             continue
         checked += 1
@@ -143,11 +160,11 @@ def test_normal_is_area_gradient_random_pairs():
         for k in range(2):
             e = np.zeros(2)
             e[k] = eps
-            ap = contact._overlap_geometry(a, 4, b + e, 4, work)[0]
-            am = contact._overlap_geometry(a, 4, b - e, 4, work)[0]
+            ap = overlap_geometry(a, 4, b + e, 4, work)[0]
+            am = overlap_geometry(a, 4, b - e, 4, work)[0]
             grad[k] = (ap - am) / (2 * eps)
         np.testing.assert_allclose([gx, gy], -grad, rtol=1e-6, atol=1e-6)
-        ar2, _, _, hx, hy = contact._overlap_geometry(b, 4, a, 4, work)
+        ar2, _, _, hx, hy = overlap_geometry(b, 4, a, 4, work)
         assert ar2 == pytest.approx(ar, abs=GEOM_TOL)
         np.testing.assert_allclose([hx, hy], [-gx, -gy], atol=GEOM_TOL)
     assert checked > 100
@@ -301,17 +318,8 @@ def test_contact_forces_deterministic_over_threads():
     numba = importlib.import_module("numba")  # after hybrid (sets the numba environment)
     rng = np.random.default_rng(3)
     n_el = 300
-    polys = [
-        rotated_square(*rng.uniform(0, 8, 2), rng.uniform(0.6, 1.0), rng.uniform(0, np.pi))
-        for _ in range(n_el)
-    ]
-    x = np.concatenate(polys)
-    en = np.arange(4 * n_el, dtype=np.int64).reshape(n_el, 4)
+    x, en, v, mass, mat, table = random_pile(rng, n_el, 8.0)
     pairs = find_contact_pairs(x, en, np.arange(4 * n_el), 0.01)
-    v = rng.normal(size=x.shape)
-    mass = np.full(4 * n_el, 0.25)
-    mat = np.zeros(n_el, dtype=np.int32)
-    table = np.array([[1e5, 5e4, 0.6, 0.2]])
     shear0 = rng.normal(size=(pairs.shape[0], 2))
     results = []
     threads = sorted({1, min(2, numba.config.NUMBA_NUM_THREADS)})
@@ -325,7 +333,7 @@ def test_contact_forces_deterministic_over_threads():
     finally:
         numba.set_num_threads(old)
     force, shear, (n_act, d_f, d_d) = results[0]
-    empty = compute_contact_forces(
+    empty = contact_forces(
         x, v, mass, en, mat, table, np.zeros((0, 2), np.int64), np.zeros((0, 2)), 1e-3, force
     )
     assert empty == (0, 0.0, 0.0)
@@ -335,6 +343,31 @@ def test_contact_forces_deterministic_over_threads():
         np.testing.assert_array_equal(f2, force)
         np.testing.assert_array_equal(s2, shear)
         assert out2 == (n_act, d_f, d_d)
+
+
+def test_unchecked_path_with_reused_buffers_matches_contact_forces():
+    # The explicit loop calls add_contact_forces with one ContactBuffers for the whole run,
+    # while the pair list grows and shrinks: same floating-point operations as the checked
+    # contact_forces, so the results must be bit-identical (forces, split parts, history,
+    # returns), whatever the buffers held before.
+    rng = np.random.default_rng(17)
+    n_el = 200
+    x, en, v, mass, mat, table = random_pile(rng, n_el, 7.0)
+    buffers = ContactBuffers()
+    for margin in (0.0, 0.2, 0.05, 0.3):
+        pairs = find_contact_pairs(x, en, np.arange(4 * n_el), margin)
+        shear0 = rng.normal(size=(pairs.shape[0], 2))
+        outs = []
+        for hot in (False, True):
+            force = np.zeros_like(x)
+            split = np.zeros((2, *x.shape))
+            shear = shear0.copy()
+            args = (x, v, mass, en, mat, table, pairs, shear, 1e-3, force, split)
+            ret = add_contact_forces(*args, buffers) if hot else contact_forces(*args)
+            outs.append((force, split, shear, ret))
+        for a, b in zip(outs[0][:3], outs[1][:3]):
+            np.testing.assert_array_equal(a, b)
+        assert outs[0][3] == outs[1][3] and outs[0][3][0] > 0
 
 
 # ---------------------------------------------------------------------------------------
@@ -435,6 +468,27 @@ def test_bad_input_clear_errors():
         run_pair(bad, np.zeros_like(xx), mass, en2, mat, table, pairs, np.zeros((1, 2)))
     with pytest.raises(ValueError, match="dt"):
         run_pair(xx, np.zeros_like(xx), mass, en2, mat, table, pairs, np.zeros((1, 2)), -1.0)
+    # arrays updated in place must be writeable float64; index arrays integers in range
+    args = (xx, np.zeros_like(xx), mass, en2, mat, table, pairs)
+    with pytest.raises(ValueError, match="force is updated in place.*float64"):
+        contact_forces(*args, np.zeros((1, 2)), 1e-3, np.zeros(xx.shape, dtype=np.int64))
+    frozen = np.zeros((1, 2))
+    frozen.flags.writeable = False
+    with pytest.raises(ValueError, match="shear is updated in place"):
+        contact_forces(*args, frozen, 1e-3, np.zeros_like(xx))
+    with pytest.raises(ValueError, match=r"shear must have shape \(1, 2\)"):
+        contact_forces(*args, np.zeros((2, 2)), 1e-3, np.zeros_like(xx))
+    with pytest.raises(ValueError, match="split_force must have shape"):
+        contact_forces(*args, np.zeros((1, 2)), 1e-3, np.zeros_like(xx), np.zeros((2, 2)))
+    with pytest.raises(ValueError, match="pairs must hold integer"):
+        run_pair(xx, np.zeros_like(xx), mass, en2, mat, table, pairs.astype(float),
+                 np.zeros((1, 2)))
+    with pytest.raises(ValueError, match="pairs must index elements 0..1"):
+        run_pair(xx, np.zeros_like(xx), mass, en2, mat, table, pairs + 1, np.zeros((1, 2)))
+    with pytest.raises(ValueError, match="element_material must index"):
+        run_pair(xx, np.zeros_like(xx), mass, en2, mat + 1, table, pairs, np.zeros((1, 2)))
+    with pytest.raises(ValueError, match="pairs must index elements"):
+        contact.contact_energy(xx, en2, mat, table, pairs + 1, np.zeros((1, 2)))
 
 
 def test_contact_energy_split_forces_and_mid_step_work():
@@ -457,7 +511,7 @@ def test_contact_energy_split_forces_and_mid_step_work():
     v[4:] = [0.1, -0.2]
     split = np.zeros((2, 8, 2))
     force = np.zeros_like(x)
-    compute_contact_forces(x, v, mass, en, mat, table, pairs, shear, dt, force, split)
+    contact_forces(x, v, mass, en, mat, table, pairs, shear, dt, force, split)
     c_n = 2 * zeta * np.sqrt(kn * 1.0 * 1.0)
     np.testing.assert_allclose(split[0, 4:].sum(axis=0), [0.0, c_n * 0.2], rtol=1e-12,
                                atol=1e-12)

@@ -12,8 +12,6 @@ import numpy as np
 import pytest
 from conftest import assert_bars
 
-pytest.importorskip("hybrid.discrete.contact")
-
 
 def _assert_outputs(out, summary, min_frames=1):
     """summary.json mirrors the summary; the XDMF time series opens and holds every element

@@ -10,8 +10,6 @@ from hybrid.discrete.builders import blocks, rectangle_mesh
 from hybrid.discrete.run import run
 from hybrid.discrete.state import from_mesh
 
-pytest.importorskip("hybrid.discrete.contact")
-
 G_ACC = 9.81
 
 

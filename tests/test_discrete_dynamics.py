@@ -181,7 +181,6 @@ def test_results_identical_with_one_and_two_threads():
 
 def test_contact_run_identical_with_one_and_two_threads():
     """Bit-for-bit with contact too (two blocks dropped on a rigid base, friction, damping)."""
-    pytest.importorskip("hybrid.discrete.contact")
     from hybrid.discrete.builders import blocks
 
     if numba.config.NUMBA_NUM_THREADS < 2:

@@ -21,8 +21,6 @@ from hybrid.discrete import DiscreteMaterial
 from hybrid.discrete.builders import blocks
 from hybrid.discrete.run import energy_ledger, run
 
-pytest.importorskip("hybrid.discrete.contact")
-
 G_ACC = 9.81
 
 

@@ -107,7 +107,6 @@ def test_spinning_vibrating_element_conserves_energy(element):
 
 def test_element_escaping_contact_grid_refused():
     """With contact bounds given, an element leaving them stops the run with a ValueError."""
-    pytest.importorskip("hybrid.discrete.contact")
     from hybrid.discrete.builders import blocks
 
     st = blocks([(1.0, 1.0, 1, 1, (0.0, 0.0), 0), (1.0, 1.0, 1, 1, (2.0, 0.0), 0)], [MAT])

@@ -12,8 +12,6 @@ import meshio
 import pytest
 from conftest import assert_bars
 
-pytest.importorskip("hybrid.discrete.contact")
-
 
 def _assert_outputs(out, summary):
     """summary.json mirrors the checks; the continuum and discrete XDMF open in meshio (the

@@ -171,6 +171,7 @@ def run(state: DiscreteState, *, until_time: float | None = None, max_steps: int
     if contact:
         try:
             from hybrid.discrete import contact as cmod
+            from hybrid.discrete.contact.forces import ContactBuffers, add_contact_forces
         except ImportError as err:
             raise ValueError("contact=True but hybrid.discrete.contact is not available") from err
 
@@ -221,6 +222,7 @@ def run(state: DiscreteState, *, until_time: float | None = None, max_steps: int
     v_start = np.zeros_like(state.v) if contact else None
     cmass = cmod.rigid_contact_mass(state.mass, state.fixed, state.element_nodes) if contact \
         else None
+    cbuf = ContactBuffers() if contact else None  # the contact loop's work arrays, reused
     has_ext = bool(np.any(state.external_force))
     stop = "steps"
     k = 0
@@ -256,10 +258,10 @@ def run(state: DiscreteState, *, until_time: float | None = None, max_steps: int
                 if n_pairs:
                     split[:] = 0.0
                     v_start[:] = state.v
-                    cmod.contact_forces(
+                    add_contact_forces(  # unchecked: state, dt and pairs checked already
                         state.x, state.v, cmass, state.element_nodes, state.element_material,
                         state.contact_table, state.contact_pairs, state.contact_shear, dt, cforce,
-                        split)
+                        split, cbuf)
             integrate.step(state, dt, alpha=damping, local_damping=local_damping,
                            contact_force=cforce, bbar=bbar, external=has_ext,
                            plastic_cap=cap)
