@@ -27,7 +27,7 @@ Verification
     Wedge angle: the back of the failed zone (at each level of the backfill the failed
     interface furthest from the wall, reference shape) is fitted with a straight line; its
     inclination when the top of the wall face has moved ``wedge_at`` = 0.1 H is compared with
-    45 + phi/2 = 60 deg (bar 5 deg, issue 5). The same fit at 0.01 H ... 0.2 H of movement and
+    45 + phi/2 = 60 deg (bar 5 deg). The same fit at 0.01 H ... 0.2 H of movement and
     at rest is reported: the scarp retreats and flattens as the debris runs out. The run must
     reach rest with bounded energy (E_kin + E_strain + E_contact never above the initial
     energy plus the work of gravity) and keep its elements and mass. Reported: the run-out

@@ -1,4 +1,4 @@
-"""Carsington Dam, Ch. 725 (issue 6), continuum phase: section, lifts, construction, F."""
+"""Carsington Dam, Ch. 725, continuum phase: section, lifts, construction, F."""
 
 import json
 
@@ -121,7 +121,7 @@ def test_carsington_thesis_mesh(case, tmp_path):
     summary = case("carsington").main(out=tmp_path, fos_tolerance=tolerance, progress=False)
     assert 800 <= summary["mesh"]["cells"] <= 1300
     _check_run(summary, tolerance)
-    # issue 6 bars of the discrete phase: at rest, the slip surface (failed interfaces that
+    # bars of the discrete phase: at rest, the slip surface (failed interfaces that
     # slipped >= 0.1 m) through the yellow clay and the core's boot, the shoulder upstream
     d = summary["discrete"]
     assert d["stop"] == "rest"

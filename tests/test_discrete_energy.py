@@ -1,4 +1,4 @@
-"""Energy ledger of the discrete engine with contact (issue 4).
+"""Energy ledger of the discrete engine with contact.
 
 The ledger (``hybrid.discrete.run.energy_ledger``) must balance:
 
@@ -6,7 +6,7 @@ The ledger (``hybrid.discrete.run.energy_ledger``) must balance:
         + D_normal_defect + residual = E(0) + W_loads + W_supports,
 
 and the residual (plastic dissipation is zero here) is asserted within 2 % of the energy scale
-(the largest work of gravity and loads during the run), the bar of issue 4.  Before the fix
+(the largest work of gravity and loads during the run), the bar.  Before the fix
 the block drop with contact damping 0.2 ran at -18 %: the damping dissipation was taken as
 c_n v_n^2 dt with the start-of-step velocity, which overestimates it when the contact vibrates
 at a few time steps per period.
@@ -44,7 +44,7 @@ def test_block_drop_ledger_balances(zeta):
               check_every=200)
     assert res.stop_reason == "rest"
     ratio, scale = _residual_ratio(res)
-    # bar of issue 4: 2 % of the energy scale (measured 0.6 % with zeta = 0.2, 1.4 % with 0:
+    # bar: 2 % of the energy scale (measured 0.6 % with zeta = 0.2, 1.4 % with 0:
     # the staggered kinetic energy during the impacts)
     assert ratio < 0.02
     led = energy_ledger(st)
@@ -82,4 +82,4 @@ def test_sliding_block_friction_is_mu_n_slip_and_ledger_balances():
     # cap mu F_n rides, oscillates about N)
     assert abs(d_fric / (mu * N * slip) - 1.0) < 0.02
     ratio, _ = _residual_ratio(res)
-    assert ratio < 0.02  # bar of issue 4
+    assert ratio < 0.02  # the bar

@@ -1,6 +1,6 @@
-"""The hybrid cases end to end: continuum -> handover -> discrete to rest (issue 5, H2 / H3).
+"""The hybrid cases end to end: continuum -> handover -> discrete to rest (H2 / H3).
 
-Bars (issue 5): the discrete phase reaches rest (E_kin below 1e-4 of its peak) with bounded
+Bars: the discrete phase reaches rest (E_kin below 1e-4 of its peak) with bounded
 energy (E_kin + E_strain + E_contact never more than 1 % of the supply above E(0) + work of
 gravity and loads), element count and mass unchanged, H3 wedge within 5 deg of 45 + phi/2;
 every output opens in meshio. The default set runs coarse meshes; the full cases are slow.

@@ -91,7 +91,7 @@ def test_continuum_xdmf_opens_in_meshio(case, tmp_path):
 @pytest.mark.mpi
 @pytest.mark.skipif(shutil.which("mpirun") is None, reason="mpirun not installed")
 def test_mpi_limit_load_equals_serial(tmp_path):
-    """C6 on 2 ranks: the same limit load as serial within 0.5 % (issue 3 bar)."""
+    """C6 on 2 ranks: the same limit load as serial within 0.5 % (the MPI bar)."""
     opts = ["--set", "fine=0.1", "--set", "coarse=0.8", "--set", "steps=12",
             "--set", "settlement=0.06"]
     script = str(CASES / "bearing_capacity.py")

@@ -130,12 +130,12 @@ def run(state: DiscreteState, *, until_time: float | None = None, max_steps: int
     mean plastic strain exceeds it (see ``ties``). plastic_strain_cap: a Gauss point whose
     accumulated plastic strain reaches it responds elastically from then on: the element has
     handed its failure to its failed interfaces and slides on them instead of flowing further
-    (issue 5: without it a psi = 0 element under the footing edge of H2 flowed to a plastic
+    (without it a psi = 0 element under the footing edge of H2 flowed to a plastic
     strain of 43 at one Gauss point and turned inside out at t = 0.06 s). contact_hinges: also
     take as contact candidates the element pairs still tied at a single vertex
     (``find_contact_pairs(..., hinges=True)``): after a partial split two elements whose common
     edge failed rotate about that vertex and otherwise interpenetrate without any contact force,
-    then repel with a deep overlap when the last tie fails (issue 5: the retaining-wall collapse
+    then repel with a deep overlap when the last tie fails (the retaining-wall collapse
     gained ~1 600 kJ/m through the normal contact forces by t = 0.2 s without it, 0.006 kJ/m
     with it).
     Raises RuntimeError if the run turns unstable (non-finite numbers or energy growing
@@ -246,7 +246,7 @@ def run(state: DiscreteState, *, until_time: float | None = None, max_steps: int
                     vmax = float(np.max(np.abs(state.v))) if state.n_nodes else 0.0
                     margin = margin_factor * vmax * contact_refresh * dt
                     margin = max(margin, 1e-6 * math.sqrt(mass_tot / float(state.density.max())))
-                    # hinges: elements still tied at one vertex of a failed edge (issue 5)
+                    # hinges: elements still tied at one vertex of a failed edge
                     pairs = cmod.find_contact_pairs(state.x, state.element_nodes,
                                                     state.node_group, margin, contact_bounds,
                                                     hinges=contact_hinges)
