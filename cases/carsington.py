@@ -409,7 +409,8 @@ def figures(out: Path, p: Parameters, mesh: MeshData, state: ContinuumState,
                     section_module().lift_tops(g.crest_level, g.berm_top, p.lifts),
                     "the axis", "core")
     paths = construction_figures(out, mesh, state, built.strain.cell_mean(state),
-                                 active=state.active, window=window, when=when, column=column)
+                                 active=state.active, window=window, when=when, column=column,
+                                 elevation_label="elevation [m OD]")
     if built.safety is not None:
         paths += safety_figures(out, mesh, built.safety, active=built.safety_active,
                                 window=window, circle=circle)

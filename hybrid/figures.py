@@ -76,13 +76,15 @@ def _cell_fields(out: Path, mesh: Any, fields: list[tuple], active: np.ndarray,
 def construction_figures(out: str | Path, mesh: Any, state: Any, strain: np.ndarray, *,
                          active: np.ndarray, window: Window, when: str,
                          column: Column | None = None,
-                         prefix: str = "end_of_construction_") -> list[Path]:
+                         prefix: str = "end_of_construction_",
+                         elevation_label: str = "y [m]") -> list[Path]:
     """PNGs of ``state`` ("``when``" in the titles) with the cells not ``active`` (not
     placed) left blank: ``{prefix}sigma_yy|sigma_xx|sigma_xy|yielded|vertical_strain.png``
     (stress components, yielded zone, vertical strain since placement: ``strain``, cell means
     (n_owned_cells, 4), e.g. :meth:`~hybrid.continuum.staging.PlacementStrain.cell_mean`),
     ``{prefix}displacement_vectors.png`` and, with a ``column``,
-    ``{prefix}{column.name}_profiles.png`` (:func:`plot_column_profiles`)."""
+    ``{prefix}{column.name}_profiles.png`` (:func:`plot_column_profiles`).
+    ``elevation_label``: the vertical axis's label (e.g. "elevation [m OD]")."""
     out = Path(out)
     stress = state.cell_stress()
     fields = [(f"{prefix}{name}.png", stress[:, i], f"{name} [kPa], {when}",
@@ -96,16 +98,19 @@ def construction_figures(out: str | Path, mesh: Any, state: Any, strain: np.ndar
     paths = _cell_fields(out, mesh, fields, active, window_overlay(window))
     paths.append(plot_displacement_vectors(
         out / f"{prefix}displacement_vectors.png", mesh, state, active=active, window=window,
-        title=f"Displacement vectors (from placement), {when}"))
+        title=f"Displacement vectors (from placement), {when}",
+        elevation_label=elevation_label))
     if column is not None:
         paths.append(plot_column_profiles(
             out / f"{prefix}{column.name}_profiles.png", mesh, state, strain[:, 1], column,
-            title=f"{column.name.capitalize()}, {when} (grey lines: lift tops)"))
+            title=f"{column.name.capitalize()}, {when} (grey lines: lift tops)",
+            elevation_label=elevation_label))
     return [path for path in paths if path is not None]
 
 
 def plot_displacement_vectors(path: str | Path, mesh: Any, state: Any, *, active: np.ndarray,
-                              window: Window, title: str, longest: float = 6.0) -> Path | None:
+                              window: Window, title: str, longest: float = 6.0,
+                              elevation_label: str = "y [m]") -> Path | None:
     """Cell-mean displacement vectors of the ``active`` cells whose centre lies in ``window``
     (x inside, y above its bottom), coloured by |u|; the longest drawn ``longest`` m long."""
     polys, vectors = gather_cells(mesh, state.cell_displacement())
@@ -129,14 +134,15 @@ def plot_displacement_vectors(path: str | Path, mesh: Any, state: Any, *, active
         ax.fill(poly[:, 0], poly[:, 1], facecolor="none", edgecolor="0.85", linewidth=0.2)
     ax.set_aspect("equal")
     ax.set_xlabel("x [m]")
-    ax.set_ylabel("y [m]")
+    ax.set_ylabel(elevation_label)
     ax.set_title(f"{title}; longest = {longest:g} m on the plot")
     fig.colorbar(q, ax=ax, label="|u| [m]", shrink=0.8)
     return _save(fig, path)
 
 
 def plot_column_profiles(path: str | Path, mesh: Any, state: Any, strain_yy: np.ndarray,
-                         column: Column, *, title: str = "", samples: int = 80) -> Path | None:
+                         column: Column, *, title: str = "", samples: int = 80,
+                         elevation_label: str = "y [m]") -> Path | None:
     """Two profiles against elevation: the horizontal displacement up the column's line
     (``samples`` points, up to its highest cell) and the vertical compression -eps_yy
     (``strain_yy``, per owned cell) of its cells."""
@@ -157,7 +163,7 @@ def plot_column_profiles(path: str | Path, mesh: Any, state: Any, strain_yy: np.
     a1.plot(u[placed, 0] * 1000.0, ys[placed], "k-")
     line = column.line or f"x = {column.x:g} m"
     a1.set_xlabel(f"horizontal displacement at {line} [mm] (+ to the right)")
-    a1.set_ylabel("y [m]")
+    a1.set_ylabel(elevation_label)
     a2.plot(-eps[cells] * 100.0, polys[cells].mean(axis=1)[:, 1], "o", ms=2.5)
     a2.set_xlabel(f"vertical compression -eps_yy, {column.name} cells [%]")
     for ax in (a1, a2):
