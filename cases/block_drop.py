@@ -30,12 +30,11 @@ from pathlib import Path
 
 import numpy as np
 
-from hybrid.discrete import DiscreteMaterial
 from hybrid.discrete.builders import blocks
 from hybrid.discrete.energy import energy_excess, energy_peak_ratio
 from hybrid.discrete.run import run
 from hybrid.io import Check, write_summary
-from hybrid.materials import GRAVITY
+from hybrid.materials import GRAVITY, Contact, Material
 from hybrid.report import plot_energy
 
 
@@ -67,8 +66,8 @@ def main(out: str | Path = "results/block_drop", **overrides) -> dict:
     out = Path(out)
     b, hb, ht, s = p.base_width, p.base_height, p.top_height, p.element_size
     wt = 2.0 * b + p.gap
-    mat = DiscreteMaterial(E=p.E, nu=p.nu, density=p.density, contact_damping=p.contact_damping,
-                           contact_phi_deg=p.contact_phi)
+    mat = Material(name="block", E=p.E, nu=p.nu, density=p.density,
+                   contact=Contact(damping=p.contact_damping, phi=p.contact_phi))
 
     def n(length: float) -> int:
         return max(round(length / s), 1)

@@ -73,7 +73,7 @@ from hybrid.figures import Column, construction_figures, safety_figures
 from hybrid.geometry import MeshData, build_mesh, load_mesh_script
 from hybrid.handover import Region, to_discrete
 from hybrid.io import Check, write_continuum_xdmf, write_summary
-from hybrid.materials import Material
+from hybrid.materials import Bond, Contact, Material
 from hybrid.model import Fixed, Model, Roller
 from hybrid.references import SlipCircle
 
@@ -168,20 +168,21 @@ def materials(p: Parameters) -> dict[str, Material]:
     the phi = 0 clays (assumed); separated elements slide at residual friction angles
     (yellow clay 12 deg, Zone II 14.5 deg: thesis Table 6.2; the core as the yellow clay and
     Zone I and the berm as Zone II: assumed)."""
-    contact = {"contact_damping": p.contact_damping}
+    def contact(phi: float) -> Contact:
+        return Contact(phi=phi, damping=p.contact_damping)
+
     fill = {"cohesion": p.fill_c, "phi": p.fill_phi, "E": p.fill_E, "nu": p.fill_nu,
-            "unit_weight": p.fill_gamma, "contact_phi": p.fill_residual_phi, **contact}
+            "unit_weight": p.fill_gamma, "contact": contact(p.fill_residual_phi)}
     return {
         "foundation": Material(name="mudstone", E=p.foundation_E, nu=p.foundation_nu,
-                               unit_weight=p.foundation_gamma, contact_phi=p.fill_phi,
-                               **contact),
+                               unit_weight=p.foundation_gamma, contact=contact(p.fill_phi)),
         "yellow_clay": Material(name="yellow clay", E=p.yellow_clay_E, nu=p.yellow_clay_nu,
                                 unit_weight=p.yellow_clay_gamma, cohesion=p.yellow_clay_cu,
-                                interface_tensile_strength=p.yellow_clay_cu,
-                                contact_phi=p.clay_residual_phi, **contact),
+                                bond=Bond(tensile_strength=p.yellow_clay_cu),
+                                contact=contact(p.clay_residual_phi)),
         "core": Material(name="core", E=p.core_E, nu=p.core_nu, unit_weight=p.core_gamma,
-                         cohesion=p.core_cu, interface_tensile_strength=p.core_cu,
-                         contact_phi=p.clay_residual_phi, **contact),
+                         cohesion=p.core_cu, bond=Bond(tensile_strength=p.core_cu),
+                         contact=contact(p.clay_residual_phi)),
         "zone_I": Material(name="Zone I", **fill),
         "zone_II": Material(name="Zone II", **fill),
         "berm": Material(name="berm", **fill),

@@ -29,11 +29,11 @@ from pathlib import Path
 
 import numpy as np
 
-from hybrid.discrete import DiscreteMaterial
 from hybrid.discrete.builders import blocks
 from hybrid.discrete.energy import energy_excess, energy_peak_ratio
 from hybrid.discrete.run import run
 from hybrid.io import Check, write_summary
+from hybrid.materials import Contact, Material
 from hybrid.report import plot_energy
 
 
@@ -65,8 +65,8 @@ def main(out: str | Path = "results/fe_de_interaction", **overrides) -> dict:
     p = Parameters(**overrides)
     out = Path(out)
     W, H, B, q = p.width, p.height, p.block_width, p.q
-    mat = DiscreteMaterial(E=p.E, nu=p.nu, density=p.density, contact_damping=p.contact_damping,
-                           contact_phi_deg=p.contact_phi)
+    mat = Material(name="block", E=p.E, nu=p.nu, density=p.density,
+                   contact=Contact(damping=p.contact_damping, phi=p.contact_phi))
     st = blocks([(W, H, p.n, p.n, (0.0, 0.0), 0),
                  (B, p.block_height, p.block_nx, 1, (W / 2 - B / 2, H + p.drop), 0)],
                 [mat], gravity=(0.0, 0.0))

@@ -43,7 +43,7 @@ from hybrid.discrete.run import run
 from hybrid.geometry import build_mesh, load_builder
 from hybrid.handover import Region, to_discrete
 from hybrid.io import Check, plot_cell_field, write_continuum_xdmf, write_summary
-from hybrid.materials import Material
+from hybrid.materials import Bond, Contact, Material
 from hybrid.model import Fixed, Model, Pressure, Roller
 from hybrid.references import strip_footing_estimates
 from hybrid.report import plot_energy, plot_load_settlement
@@ -92,10 +92,10 @@ def main(out: str | Path = "results/footing_failure", **overrides) -> dict:
     mesh = build_mesh(load_builder(MESHES / "footing.py"), width=p.width, depth=p.depth,
                       half_footing=b, fine=p.fine, coarse=p.coarse, cells="quadrilateral")
     soil = Material(name="soil", E=p.E, nu=p.nu, unit_weight=p.unit_weight, cohesion=p.cohesion,
-                    phi=p.phi, psi=p.psi, interface_cohesion=p.interface_cohesion,
-                    interface_phi=p.interface_phi,
-                    interface_tensile_strength=p.interface_tensile_strength,
-                    contact_damping=p.contact_damping)
+                    phi=p.phi, psi=p.psi,
+                    bond=Bond(cohesion=p.interface_cohesion, phi=p.interface_phi,
+                              tensile_strength=p.interface_tensile_strength),
+                    contact=Contact(damping=p.contact_damping))
     # the load factor is the footing pressure in kPa
     model = Model(mesh, {"soil": soil},
                   supports=[Fixed("base"), Roller("symmetry", "x"), Roller("right", "x")],

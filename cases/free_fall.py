@@ -29,10 +29,10 @@ from pathlib import Path
 
 import numpy as np
 
-from hybrid.discrete import DiscreteMaterial, integrate, rectangle
+from hybrid.discrete import integrate, rectangle
 from hybrid.discrete.run import run
 from hybrid.io import Check, write_summary
-from hybrid.materials import GRAVITY
+from hybrid.materials import GRAVITY, Material
 from hybrid.report import plot_energy
 
 
@@ -79,7 +79,7 @@ def main(out: str | Path = "results/free_fall", **overrides) -> dict:
     p = Parameters(**overrides)
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    mat = DiscreteMaterial(E=p.E, nu=p.nu, density=p.density)
+    mat = Material(name="block", E=p.E, nu=p.nu, density=p.density)
 
     # --- D1: undamped fall, one step measured ----------------------------------------------
     st = rectangle(p.size, p.size, p.n, p.n, material=mat, gravity=(0.0, -p.g))

@@ -51,7 +51,7 @@ from hybrid.discrete.run import run
 from hybrid.geometry import build_mesh, load_builder
 from hybrid.handover import Region, to_discrete
 from hybrid.io import Check, plot_cell_field, write_continuum_xdmf, write_summary
-from hybrid.materials import Material
+from hybrid.materials import Bond, Contact, Material
 from hybrid.model import Displacement, Fixed, Model, Roller
 from hybrid.report import plot_energy, plot_thrust_translation
 
@@ -90,10 +90,10 @@ def main(out: str | Path = "results/retaining_wall_collapse", **overrides) -> di
     mesh = build_mesh(load_builder(MESHES / "wall.py"), height=p.height, length=p.length,
                       front=p.front, size=p.size, cells="quadrilateral")
     sand = Material(name="sand", E=p.E, nu=p.nu, unit_weight=p.unit_weight, cohesion=0.0, phi=p.phi,
-                    psi=p.psi, plastic=True, interface_tensile_strength=0.0,
-                    contact_damping=p.contact_damping)
+                    psi=p.psi, plastic=True, bond=Bond(tensile_strength=0.0),
+                    contact=Contact(damping=p.contact_damping))
     ground = Material(name="ground", E=p.E, nu=p.nu, unit_weight=p.unit_weight,
-                      contact_phi=p.phi, contact_damping=p.contact_damping)
+                      contact=Contact(phi=p.phi, damping=p.contact_damping))
     # the ground is only a support in the continuum: the backfill base is held (rough; it also
     # holds the heel node, which the wall's prescribed movement would otherwise drag through
     # the elastic ground)

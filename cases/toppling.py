@@ -44,7 +44,7 @@ from hybrid.discrete.run import run
 from hybrid.geometry import build_mesh, load_builder
 from hybrid.handover import Region, residual_force, to_discrete
 from hybrid.io import Check, write_summary
-from hybrid.materials import GRAVITY, Material
+from hybrid.materials import GRAVITY, Bond, Contact, Material
 from hybrid.model import Fixed, Model
 from hybrid.report import plot_energy
 
@@ -139,11 +139,10 @@ def main(out: str | Path = "results/toppling", **overrides) -> dict:
                       nx=p.nx, ny=p.ny, lean=p.lean, x0=x0, ground_length=6.0 * p.height)
     gamma = p.density * GRAVITY
     rock = Material(name="face", E=p.E, nu=p.nu, unit_weight=gamma, plastic=False,
-                    interface_cohesion=0.0, interface_phi=p.interface_phi,
-                    interface_tensile_strength=0.0, contact_phi=p.contact_phi,
-                    contact_damping=p.contact_damping)
+                    bond=Bond(cohesion=0.0, phi=p.interface_phi, tensile_strength=0.0),
+                    contact=Contact(phi=p.contact_phi, damping=p.contact_damping))
     ground = Material(name="ground", E=p.E, nu=p.nu, unit_weight=gamma, plastic=False,
-                      contact_phi=p.contact_phi, contact_damping=p.contact_damping)
+                      contact=Contact(phi=p.contact_phi, damping=p.contact_damping))
     state = solve_elastic(Model(mesh, {"face": rock, "ground": ground},
                                 supports=[Fixed("base")]))
     # 2. handover: the face (and its bonded base) may split; the ground strip is held

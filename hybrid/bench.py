@@ -48,18 +48,19 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 def build_problem(kind: str, n_elements: int):
     """(state, step options) of one benchmark problem with about n_elements elements."""
-    from hybrid.discrete import DiscreteMaterial, rectangle
+    from hybrid.discrete import rectangle
+    from hybrid.materials import Bond, Contact, Material
 
     if kind in ("tied", "mc"):
         nx = max(int(round(math.sqrt(n_elements))), 1)
         ny = max(int(round(n_elements / nx)), 1)
         size = 1.0
         if kind == "tied":
-            mat = DiscreteMaterial(E=1.0e5, nu=0.3, density=2.0)
+            mat = Material(name="block", E=1.0e5, nu=0.3, density=2.0)
             st = rectangle(nx * size, ny * size, nx, ny, material=mat)
             st.fix(np.isclose(st.x_ref[:, 1], 0.0))
             return st, {"alpha": 2.0}
-        mat = DiscreteMaterial(E=1.0e5, nu=0.3, density=2.0, plastic=True, cohesion=10.0)
+        mat = Material(name="block", E=1.0e5, nu=0.3, density=2.0, plastic=True, cohesion=10.0)
         st = rectangle(nx * size, ny * size, nx, ny, material=mat, gravity=(0.0, 0.0))
         st.stress[:] = [-50.0, -70.0, -60.0, 0.0]  # sigma_1 - sigma_3 = 2c: on the yield surface
         # isochoric plane-strain compression imposed on every node: every Gauss point flows
@@ -72,9 +73,9 @@ def build_problem(kind: str, n_elements: int):
     if kind == "collapse":
         ny = max(int(round(math.sqrt(4 * n_elements))), 2)
         nx = max(int(round(n_elements / ny)), 1)
-        mat = DiscreteMaterial(E=1.0e5, nu=0.3, density=2.0, interface_tensile_strength=0.0,
-                               interface_cohesion=0.0, interface_phi_deg=30.0,
-                               contact_phi_deg=30.0, contact_damping=0.1)
+        mat = Material(name="block", E=1.0e5, nu=0.3, density=2.0,
+                       bond=Bond(tensile_strength=0.0, cohesion=0.0, phi=30.0),
+                       contact=Contact(phi=30.0, damping=0.1))
         st = rectangle(float(nx), float(ny), nx, ny, material=mat, gravity=(-3.0, -9.81))
         base = st.element_nodes[:nx].ravel()  # bottom row: a rigid base (all nodes fixed)
         st.fix(base)

@@ -1,7 +1,8 @@
-"""Soil and rock materials: validated, frozen parameter sets in SI units.
+"""Soil and rock materials: one validated, frozen parameter record for both phases.
 
-Units: E in kPa, unit weight in kN/m3, cohesion and strengths in kPa, angles in degrees,
-contact stiffness in kPa/m (normal force per unit thickness = k_n * overlap area).
+Units: E in kPa, unit weight in kN/m3, density in t/m3, cohesion and strengths in kPa, angles
+in degrees, contact stiffness in kPa/m (normal force per unit thickness = k_n x overlap area).
+The Mohr-Coulomb kernel row built from a material is in ``hybrid.constitutive.table``.
 """
 
 from __future__ import annotations
@@ -12,7 +13,8 @@ from dataclasses import dataclass, replace
 
 GRAVITY = 9.81  # m/s2, converts unit weight (kN/m3) to density (t/m3)
 
-__all__ = ["GRAVITY", "Material", "MaterialError", "MaterialWarning"]
+__all__ = ["GRAVITY", "Bond", "Contact", "Material", "MaterialError", "MaterialWarning",
+           "Strength"]
 
 
 class MaterialError(ValueError):
@@ -23,13 +25,136 @@ class MaterialWarning(UserWarning):
     """A material parameter is valid but looks like it was given in the wrong unit."""
 
 
+def _invalid(owner: str, param: str, value: object, rule: str) -> MaterialError:
+    return MaterialError(f"{owner}: {param} = {value!r} is invalid; it must be {rule}")
+
+
+def _check_numbers(owner: str, values: dict[str, object]) -> None:
+    """Every given value is a finite real number (bool is refused: ``E=True`` is a slip)."""
+    for key, value in values.items():
+        if value is None:
+            continue
+        if (isinstance(value, bool) or not isinstance(value, int | float)
+                or not math.isfinite(value)):
+            raise _invalid(owner, key, value, "a finite number")
+
+
+def _check_angle(owner: str, key: str, value: float | None) -> None:
+    if value is not None and not 0 <= value < 90:
+        raise _invalid(owner, key, value, "in [0, 90) degrees")
+
+
+def _warn_radians(owner: str, key: str, value: float | None) -> None:
+    """Warn about an angle below 1.6 that is not a whole number of degrees (radians?)."""
+    if value is not None and 0 < value < 1.6 and value != round(value):
+        warnings.warn(f"{owner}: {key} = {value:g} deg; angles are in degrees (if {value:g} "
+                      f"is in radians give {math.degrees(value):.4g})", MaterialWarning,
+                      stacklevel=4)
+
+
+def _reduced_angle(value: float, factor: float) -> float:
+    """The angle whose tangent is tan(value) / factor [deg]."""
+    return math.degrees(math.atan(math.tan(math.radians(value)) / factor))
+
+
+def _reduced_optional(value: float | None, factor: float) -> float | None:
+    return None if value is None else _reduced_angle(value, factor)
+
+
+def _divided(value: float | None, factor: float) -> float | None:
+    return None if value is None else value / factor
+
+
+@dataclass(frozen=True, kw_only=True)
+class Strength:
+    """Mohr-Coulomb strength (the peak of a material; a residual strength has the same form).
+
+    Attributes:
+        cohesion: c [kPa].
+        phi: friction angle [deg].
+        psi: dilation angle [deg] (psi = phi is associated flow).
+        tensile_strength: tension cut-off [kPa]; None means the apex c cot(phi).
+    """
+
+    cohesion: float = 0.0
+    phi: float = 0.0
+    psi: float = 0.0
+    tensile_strength: float | None = None
+
+
+@dataclass(frozen=True, kw_only=True)
+class Bond:
+    """Strength of the bond between two intact discrete elements (thesis section 4.5).
+
+    A bond breaks in tension beyond ``tensile_strength`` or in shear beyond
+    ``cohesion + sigma_n tan(phi)``; then the two elements meet by contact only. A value left
+    None follows the material: its own c, phi and tension cut-off when it is plastic. An
+    elastic material has no strength, so its bonds are unbreakable unless a value is given.
+
+    Attributes:
+        cohesion: bond cohesion [kPa].
+        phi: bond friction angle [deg].
+        tensile_strength: bond tensile strength [kPa].
+    """
+
+    cohesion: float | None = None
+    phi: float | None = None
+    tensile_strength: float | None = None
+
+    def __post_init__(self) -> None:
+        owner = "Bond"
+        _check_numbers(owner, {"cohesion": self.cohesion, "phi": self.phi,
+                               "tensile_strength": self.tensile_strength})
+        for key in ("cohesion", "tensile_strength"):
+            value = getattr(self, key)
+            if value is not None and value < 0:
+                raise _invalid(owner, key, value, ">= 0 kPa")
+        _check_angle(owner, "phi", self.phi)
+        _warn_radians(owner, "phi", self.phi)
+
+
+@dataclass(frozen=True, kw_only=True)
+class Contact:
+    """Contact between separated discrete elements (penalty springs with Coulomb friction).
+
+    Attributes:
+        normal_stiffness: k_n [kPa/m] (normal force per unit thickness = k_n x overlap area
+            / contact length); None: 10 E / mean element size.
+        shear_stiffness: k_t [kPa/m] of the tangential spring; None: equal to k_n.
+        phi: contact friction angle [deg]; None: the material's phi.
+        damping: viscous damping ratio zeta [-] of the normal spring (0 <= zeta <= 1; 0: none,
+            separated blocks rattle until mass damping stops them).
+    """
+
+    normal_stiffness: float | None = None
+    shear_stiffness: float | None = None
+    phi: float | None = None
+    damping: float = 0.0
+
+    def __post_init__(self) -> None:
+        owner = "Contact"
+        _check_numbers(owner, {"normal_stiffness": self.normal_stiffness,
+                               "shear_stiffness": self.shear_stiffness, "phi": self.phi,
+                               "damping": self.damping})
+        for key in ("normal_stiffness", "shear_stiffness"):
+            value = getattr(self, key)
+            if value is not None and value <= 0:
+                raise _invalid(owner, key, value, "> 0 kPa/m")
+        _check_angle(owner, "phi", self.phi)
+        if not 0 <= self.damping <= 1:
+            raise _invalid(owner, "damping", self.damping, "a damping ratio in [0, 1]")
+        _warn_radians(owner, "phi", self.phi)
+
+
 @dataclass(frozen=True, kw_only=True)
 class Material:
-    """A linear-elastic, optionally Mohr-Coulomb perfectly plastic, material.
+    """A linear-elastic, optionally Mohr-Coulomb perfectly plastic, material of either phase.
 
-    Keyword-only (``Material(name="clay", E=10_000.0, nu=0.3, ...)``). A Young's modulus
-    below 100 kPa (a modulus in MPa?) or a friction or dilation angle below 1.6 that is not a
-    whole number of degrees (an angle in radians?) is accepted with a ``MaterialWarning``.
+    Keyword-only (``Material(name="clay", E=10_000.0, nu=0.3, unit_weight=18.0, ...)``). The
+    weight is given as ``unit_weight`` [kN/m3] or as ``density`` [t/m3] (one of them; the
+    other follows with g = ``GRAVITY``). A Young's modulus below 100 kPa (a modulus in MPa?)
+    or a friction or dilation angle below 1.6 that is not a whole number of degrees (an angle
+    in radians?) is accepted with a ``MaterialWarning``.
 
     A material is plastic when ``plastic=True`` is given or when it has strength parameters
     (``cohesion > 0`` or ``phi > 0``); otherwise it stays elastic however it is loaded.
@@ -38,60 +163,53 @@ class Material:
         name: label used in error messages and outputs.
         E: Young's modulus [kPa].
         nu: Poisson's ratio [-], 0 <= nu < 0.5.
-        unit_weight: gamma [kN/m3] (density = gamma / g [t/m3]).
-        cohesion: c [kPa].
-        phi: friction angle [deg], 0 <= phi < 90.
+        unit_weight: gamma [kN/m3] (default 0: weightless, or density x g).
+        density: rho [t/m3] (default unit_weight / g).
+        cohesion: peak c [kPa].
+        phi: peak friction angle [deg], 0 <= phi < 90.
         psi: dilation angle [deg], 0 <= psi <= phi (psi = phi is associated flow).
         tensile_strength: tension cut-off [kPa]; None means the Mohr-Coulomb apex c cot(phi).
-        interface_cohesion, interface_phi, interface_tensile_strength: strength of the bonds
-            between discrete elements (default: the material's own c, phi, tensile strength).
-        contact_stiffness: k_n [kPa/m]; None lets the engine pick it from E and element size.
-        contact_phi: friction angle of contacts between separated elements [deg]
-            (default: phi).
-        contact_damping: viscous damping ratio zeta [-] of the normal contact spring
-            (0 <= zeta <= 1; 0: none, separated blocks rattle until mass damping stops them).
+        plastic: force (True) or suppress (False) the Mohr-Coulomb return; None: plastic when
+            the material has a strength.
+        bond: strength of the bonds between discrete elements of this material (``Bond``).
+        contact: contact stiffness, friction and damping of its discrete elements
+            (``Contact``).
     """
 
     name: str
     E: float
     nu: float
-    unit_weight: float = 0.0
+    unit_weight: float | None = None
+    density: float | None = None
     cohesion: float = 0.0
     phi: float = 0.0
     psi: float = 0.0
     tensile_strength: float | None = None
     plastic: bool | None = None
-    interface_cohesion: float | None = None
-    interface_phi: float | None = None
-    interface_tensile_strength: float | None = None
-    contact_stiffness: float | None = None
-    contact_phi: float | None = None
-    contact_damping: float = 0.0
+    bond: Bond = Bond()
+    contact: Contact = Contact()
 
     def __post_init__(self) -> None:
-        def bad(param: str, value: object, rule: str) -> MaterialError:
-            return MaterialError(
-                f"material '{self.name}': {param} = {value!r} is invalid; it must be {rule}"
-            )
+        owner = f"material '{self.name}'"
 
-        numbers = {
-            "E": self.E, "nu": self.nu, "unit_weight": self.unit_weight,
-            "cohesion": self.cohesion, "phi": self.phi, "psi": self.psi,
-            "contact_damping": self.contact_damping,
-        }
-        for key in ("tensile_strength", "interface_cohesion", "interface_phi",
-                    "interface_tensile_strength", "contact_stiffness", "contact_phi"):
-            if getattr(self, key) is not None:
-                numbers[key] = getattr(self, key)
-        for key, value in numbers.items():
-            if not isinstance(value, int | float) or not math.isfinite(value):
-                raise bad(key, value, "a finite number")
+        def bad(param: str, value: object, rule: str) -> MaterialError:
+            return _invalid(owner, param, value, rule)
+
+        _check_numbers(owner, {"E": self.E, "nu": self.nu, "unit_weight": self.unit_weight,
+                               "density": self.density, "cohesion": self.cohesion,
+                               "phi": self.phi, "psi": self.psi,
+                               "tensile_strength": self.tensile_strength})
+        if self.plastic is not None and not isinstance(self.plastic, bool):
+            raise bad("plastic", self.plastic, "True, False or None")
+        if not isinstance(self.bond, Bond):
+            raise bad("bond", self.bond, "a Bond(...)")
+        if not isinstance(self.contact, Contact):
+            raise bad("contact", self.contact, "a Contact(...)")
+        self._resolve_weight(bad)
         if self.E <= 0:
             raise bad("E", self.E, "> 0 kPa")
         if not 0 <= self.nu < 0.5:
             raise bad("nu", self.nu, "in [0, 0.5) (0.5 is incompressible: use 0.49 at most)")
-        if self.unit_weight < 0:
-            raise bad("unit_weight", self.unit_weight, ">= 0 kN/m3")
         if self.cohesion < 0:
             raise bad("cohesion", self.cohesion, ">= 0 kPa")
         if not 0 <= self.phi < 90:
@@ -100,32 +218,33 @@ class Material:
             raise bad("psi", self.psi, f"in [0, phi = {self.phi}] degrees (dilation <= friction)")
         if self.is_plastic and self.cohesion == 0 and self.phi == 0:
             raise bad("cohesion", self.cohesion, "> 0 or phi > 0 for a plastic material")
-        for key in ("tensile_strength", "interface_cohesion", "interface_tensile_strength"):
-            value = getattr(self, key)
-            if value is not None and value < 0:
-                raise bad(key, value, ">= 0 kPa")
-        for key in ("interface_phi", "contact_phi"):
-            value = getattr(self, key)
-            if value is not None and not 0 <= value < 90:
-                raise bad(key, value, "in [0, 90) degrees")
-        if self.contact_stiffness is not None and self.contact_stiffness <= 0:
-            raise bad("contact_stiffness", self.contact_stiffness, "> 0 kPa/m")
-        if not 0 <= self.contact_damping <= 1:
-            raise bad("contact_damping", self.contact_damping, "a damping ratio in [0, 1]")
-        self._warn_units()
-
-    def _warn_units(self) -> None:
-        """Warn about values that look like the wrong unit (valid, but suspicious)."""
+        if self.tensile_strength is not None and self.tensile_strength < 0:
+            raise bad("tensile_strength", self.tensile_strength, ">= 0 kPa")
         if self.E < 100.0:
-            warnings.warn(f"material '{self.name}': E = {self.E:g} kPa is very soft; E is in "
-                          f"kPa (for {self.E:g} MPa give E = {1000 * self.E:g})",
-                          MaterialWarning, stacklevel=4)
-        for key in ("phi", "psi", "interface_phi", "contact_phi"):
-            value = getattr(self, key)
-            if value is not None and 0 < value < 1.6 and value != round(value):
-                warnings.warn(f"material '{self.name}': {key} = {value:g} deg; angles are in "
-                              f"degrees (if {value:g} is in radians give "
-                              f"{math.degrees(value):.4g})", MaterialWarning, stacklevel=4)
+            warnings.warn(f"{owner}: E = {self.E:g} kPa is very soft; E is in kPa (for "
+                          f"{self.E:g} MPa give E = {1000 * self.E:g})", MaterialWarning,
+                          stacklevel=3)
+        for key in ("phi", "psi"):
+            _warn_radians(owner, key, getattr(self, key))
+
+    def _resolve_weight(self, bad) -> None:
+        """Fill in whichever of unit_weight and density was not given (gamma = rho g)."""
+        gamma, rho = self.unit_weight, self.density
+        if gamma is not None and gamma < 0:
+            raise bad("unit_weight", gamma, ">= 0 kN/m3")
+        if rho is not None and rho < 0:
+            raise bad("density", rho, ">= 0 t/m3")
+        if gamma is not None and rho is not None:
+            if not math.isclose(gamma, rho * GRAVITY, rel_tol=1e-12, abs_tol=1e-300):
+                raise bad("density", rho, f"unit_weight / g = {gamma / GRAVITY:g} t/m3, or "
+                          "give only one of unit_weight and density")
+            return
+        if rho is None:
+            gamma = 0.0 if gamma is None else gamma
+            object.__setattr__(self, "unit_weight", gamma)
+            object.__setattr__(self, "density", gamma / GRAVITY)
+        else:
+            object.__setattr__(self, "unit_weight", rho * GRAVITY)
 
     # --- derived quantities -------------------------------------------------------------
     @property
@@ -136,9 +255,10 @@ class Material:
         return self.cohesion > 0 or self.phi > 0
 
     @property
-    def density(self) -> float:
-        """Mass density rho = gamma / g [t/m3]."""
-        return self.unit_weight / GRAVITY
+    def peak(self) -> Strength:
+        """The peak strength as a ``Strength`` record."""
+        return Strength(cohesion=self.cohesion, phi=self.phi, psi=self.psi,
+                        tensile_strength=self.tensile_strength)
 
     @property
     def shear_modulus(self) -> float:
@@ -163,51 +283,29 @@ class Material:
     @property
     def p_wave_speed(self) -> float:
         """P-wave speed sqrt((K + 4G/3) / rho) [m/s]; inf for a weightless material."""
-        if self.density == 0:
+        if not self.density:
             return math.inf
         return math.sqrt((self.bulk_modulus + 4.0 * self.shear_modulus / 3.0) / self.density)
 
-    def resolved_tensile_strength(self) -> float:
-        """Tension cut-off [kPa]: the given value, at most the Mohr-Coulomb apex c cot(phi)
-        (the default), as the shared kernel expects.
-
-        For phi = 0 (Tresca) without a given value the cut-off is inactive (a large number).
-        """
-        apex = self.cohesion / math.tan(math.radians(self.phi)) if self.phi > 0 else 1e30
-        if self.tensile_strength is not None:
-            return min(float(self.tensile_strength), apex)  # no tension beyond the apex
-        return apex
-
-    def mohr_coulomb_row(self) -> tuple[float, ...]:
-        """[K, G, c, sin phi, cos phi, sin psi, tensile strength] for the shared kernel."""
-        phi, psi = math.radians(self.phi), math.radians(self.psi)
-        return (self.bulk_modulus, self.shear_modulus, self.cohesion, math.sin(phi),
-                math.cos(phi), math.sin(psi), self.resolved_tensile_strength())
-
     def weakened(self, factor: float) -> Material:
-        """Every strength divided by ``factor`` (strength reduction, Zienkiewicz et al. 1975):
-        c / F, tan(phi) / F, tan(psi) / F, tensile strength / F, and the same for the
-        interface and contact strengths that are given (those left None follow c and phi).
-        ``factor`` < 1 makes the material stronger."""
+        """Every strength divided by ``factor`` (strength reduction, Zienkiewicz et al. 1975).
+
+        c / F, tan(phi) / F, tan(psi) / F, tensile strength / F, and the same for the bond and
+        contact strengths that are given (those left None follow c and phi). ``factor`` < 1
+        makes the material stronger.
+        """
         if not (isinstance(factor, int | float) and math.isfinite(factor) and factor > 0):
             raise MaterialError(f"material '{self.name}': strength factor {factor!r} must be a "
                                 "finite number > 0")
-
-        def angle(value: float | None) -> float | None:
-            if value is None:
-                return None
-            return math.degrees(math.atan(math.tan(math.radians(value)) / factor))
-
-        def divided(value: float | None) -> float | None:
-            return None if value is None else value / factor
-
-        phi = angle(self.phi)
+        phi = _reduced_angle(self.phi, factor)
         with warnings.catch_warnings():  # reduced angles are degrees, whatever their size
             warnings.simplefilter("ignore", MaterialWarning)
+            bond = Bond(cohesion=_divided(self.bond.cohesion, factor),
+                        phi=_reduced_optional(self.bond.phi, factor),
+                        tensile_strength=_divided(self.bond.tensile_strength, factor))
+            contact = replace(self.contact, phi=_reduced_optional(self.contact.phi, factor))
             return replace(self, cohesion=self.cohesion / factor, phi=phi,
-                           psi=min(angle(self.psi), phi), plastic=self.is_plastic,
-                           tensile_strength=divided(self.tensile_strength),
-                           interface_cohesion=divided(self.interface_cohesion),
-                           interface_phi=angle(self.interface_phi),
-                           interface_tensile_strength=divided(self.interface_tensile_strength),
-                           contact_phi=angle(self.contact_phi))
+                           psi=min(_reduced_angle(self.psi, factor), phi),
+                           plastic=self.is_plastic,
+                           tensile_strength=_divided(self.tensile_strength, factor),
+                           bond=bond, contact=contact)

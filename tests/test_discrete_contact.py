@@ -5,10 +5,11 @@ import math
 import numpy as np
 import pytest
 
-from hybrid.discrete import DiscreteMaterial, ties
+from hybrid.discrete import ties
 from hybrid.discrete.builders import blocks, rectangle_mesh
 from hybrid.discrete.run import run
 from hybrid.discrete.state import from_mesh
+from hybrid.materials import Bond, Contact, Material
 
 G_ACC = 9.81
 
@@ -25,8 +26,8 @@ def test_d5_block_dropped_on_two_blocks():
     """D5: a block dropped on two base blocks comes to rest; the base blocks then carry their
     own weight plus half the top block's; energy never exceeds E(0) + work of gravity."""
     rho = 2.0
-    mat = DiscreteMaterial(E=1.0e5, nu=0.3, density=rho, contact_damping=0.2,
-                           contact_phi_deg=30.0)
+    mat = Material(name="block", E=1.0e5, nu=0.3, density=rho,
+                   contact=Contact(damping=0.2, phi=30.0))
     st = blocks([(1.0, 1.0, 4, 4, (0.0, 0.0), 0), (1.0, 1.0, 4, 4, (1.2, 0.0), 0),
                  (2.2, 0.5, 8, 2, (0.0, 1.05), 0)], [mat])
     st.fix(np.isclose(st.x_ref[:, 1], 0.0))
@@ -48,8 +49,8 @@ def test_d6_loaded_block_on_tied_assembly():
     """D6: a block loaded by q = 200 kPa dropped on a 100-element tied assembly, gravity off:
     at rest the vertical stress under the load is q (load / width)."""
     q, W, H, B = 200.0, 10.0, 10.0, 2.0
-    mat = DiscreteMaterial(E=1.0e5, nu=0.3, density=2.0, contact_damping=0.3,
-                           contact_phi_deg=30.0)
+    mat = Material(name="block", E=1.0e5, nu=0.3, density=2.0,
+                   contact=Contact(damping=0.3, phi=30.0))
     st = blocks([(W, H, 10, 10, (0.0, 0.0), 0), (B, 0.5, 4, 1, (W / 2 - B / 2, H + 0.02), 0)],
                 [mat], gravity=(0.0, 0.0))
     xr = st.x_ref
@@ -76,8 +77,8 @@ def test_d7_friction_block_on_plane(ratio):
     """D7: a block on a rigid plane pushed by F = ratio mu N: it sticks below mu N and slides
     with the Coulomb acceleration (F - mu N) / m above it."""
     mu = math.tan(math.radians(30.0))
-    mat = DiscreteMaterial(E=1.0e5, nu=0.3, density=2.0, contact_damping=0.2,
-                           contact_phi_deg=30.0)
+    mat = Material(name="block", E=1.0e5, nu=0.3, density=2.0,
+                   contact=Contact(damping=0.2, phi=30.0))
     st = blocks([(20.0, 0.5, 40, 1, (0.0, 0.0), 0), (1.0, 1.0, 2, 2, (1.0, 0.5), 0)], [mat],
                 rigid=[0])
     blk = np.unique(st.element_nodes[40:].ravel())
@@ -101,7 +102,7 @@ def test_d7_friction_block_on_plane(ratio):
 
 def test_d8_elastic_collision_conserves_momentum_and_energy():
     """D8: two blocks collide without damping: momentum to 1e-6, energy to 2 %."""
-    mat = DiscreteMaterial(E=1.0e5, nu=0.3, density=2.0, contact_phi_deg=0.0)
+    mat = Material(name="block", E=1.0e5, nu=0.3, density=2.0, contact=Contact(phi=0.0))
     st = blocks([(1.0, 1.0, 2, 2, (0.0, 0.0), 0), (1.0, 1.0, 2, 2, (1.1, 0.0), 0)], [mat],
                 gravity=(0.0, 0.0))
     a = st.element_nodes[:4].ravel()
@@ -124,11 +125,11 @@ def test_d10_toppling_face_with_no_tension_splitting():
     """D10: a 100-element overhanging face (4 x 25) on a rigid ground, no-tension cohesionless
     interfaces: it splits (only where the stress has a tensile principal value), topples,
     settles to rest, and the energy stays bounded by its sources."""
-    mat = DiscreteMaterial(E=1.0e5, nu=0.25, density=2.0, interface_tensile_strength=0.0,
-                           interface_cohesion=0.0, interface_phi_deg=35.0,
-                           contact_damping=0.3, contact_phi_deg=35.0, phi_deg=35.0)
-    ground = DiscreteMaterial(E=1.0e5, nu=0.25, density=2.0, contact_damping=0.3,
-                              contact_phi_deg=35.0)
+    mat = Material(name="block", E=1.0e5, nu=0.25, density=2.0, phi=35.0, plastic=False,
+                   bond=Bond(tensile_strength=0.0, cohesion=0.0, phi=35.0),
+                   contact=Contact(damping=0.3, phi=35.0))
+    ground = Material(name="block", E=1.0e5, nu=0.25, density=2.0,
+                      contact=Contact(damping=0.3, phi=35.0))
     p1, c1 = rectangle_mesh(1.6, 10.0, 4, 25, origin=(5.0, 0.0))
     p1[:, 0] += 0.08 * p1[:, 1]  # overhang: the face leans 0.8 m over its 1.6 m base
     p2, c2 = rectangle_mesh(60.0, 1.0, 60, 1, origin=(-5.0, -1.0))

@@ -2,15 +2,17 @@
 
 import pytest
 
-from hybrid.discrete import DiscreteMaterial, rectangle
+from hybrid.discrete import rectangle
 from hybrid.discrete.integrate import stable_time_step
 from hybrid.discrete.run import run
+from hybrid.materials import Material
 
 
 def test_pancaked_element_stops_the_run_clearly():
     """One elastic Q4 squashed by its top nodes: once its stable step (L_min / c_p, here the
     height) falls below the run's dt (0.5 x the initial stable step), the run stops."""
-    st = rectangle(1.0, 1.0, 1, 1, "Q4", material=DiscreteMaterial(E=1e4, nu=0.0, density=2.0))
+    st = rectangle(1.0, 1.0, 1, 1, "Q4", material=Material(name="block", E=1e4, nu=0.0,
+                                                           density=2.0))
     bottom = st.x[:, 1] < 0.5
     st.fix(bottom)
     dt0 = stable_time_step(st)

@@ -5,14 +5,15 @@ import math
 import numpy as np
 import pytest
 
-from hybrid.discrete import DiscreteMaterial, integrate, rectangle
+from hybrid.discrete import integrate, rectangle
 from hybrid.discrete.elements import internal_forces
 from hybrid.discrete.run import run
+from hybrid.materials import Bond, Contact, Material
 
 import numba  # isort: skip
 
 G_ACC = 9.81
-ROCK = DiscreteMaterial(E=1.0e5, nu=0.3, density=2.0)
+ROCK = Material(name="block", E=1.0e5, nu=0.3, density=2.0)
 
 
 def test_d1_free_fall_tied_group():
@@ -54,7 +55,7 @@ def test_d2_terminal_velocity_with_mass_damping():
 def test_d4_p_wave_arrival_in_confined_column():
     """D4: a velocity step at the top of a laterally confined column travels down at
     c_p = sqrt((K + 4G/3) / rho) (thesis eq 3.18)."""
-    mat = DiscreteMaterial(E=1.0e5, nu=0.25, density=2.0)
+    mat = Material(name="block", E=1.0e5, nu=0.25, density=2.0)
     H = 100.0
     st = rectangle(1.0, H, 1, 200, material=mat, gravity=(0.0, 0.0))
     st.fix(np.ones(st.n_nodes, dtype=bool), x=True, y=False)  # oedometric: u_x = 0
@@ -114,7 +115,7 @@ def test_bbar_bending_mode_has_no_volumetric_stress():
     """B-bar: the Q4 bending (hourglass-like) mode u_x = d xi eta keeps the area, so the mean
     dilatation gives no pressure, while full 2x2 integration produces the parasitic pressure
     K d eta_gp / a that locks nearly incompressible / plastic (isochoric) flow."""
-    mat = DiscreteMaterial(E=1.0e4, nu=0.49, density=1.0)
+    mat = Material(name="block", E=1.0e4, nu=0.49, density=1.0)
     a = 1.0
     d = 1.0e-6
     results = {}
@@ -150,8 +151,8 @@ def test_dt_above_stable_limit_refused():
 
 
 def _loaded_block(element="Q4"):
-    mat = DiscreteMaterial(E=5.0e4, nu=0.3, density=2.0, interface_tensile_strength=2.0,
-                           interface_cohesion=5.0, interface_phi_deg=30.0)
+    mat = Material(name="block", E=5.0e4, nu=0.3, density=2.0,
+                   bond=Bond(tensile_strength=2.0, cohesion=5.0, phi=30.0))
     st = rectangle(6.0, 3.0, 12, 6, element, material=mat)
     st.fix(np.isclose(st.x_ref[:, 1], 0.0))
     st.fix(np.isclose(st.x_ref[:, 0], 6.0) & (st.x_ref[:, 1] > 1.5), x=True, y=False,
@@ -185,8 +186,8 @@ def test_contact_run_identical_with_one_and_two_threads():
 
     if numba.config.NUMBA_NUM_THREADS < 2:
         pytest.skip("numba has fewer than 2 threads here")
-    mat = DiscreteMaterial(E=1.0e5, nu=0.3, density=2.0, contact_damping=0.1,
-                           contact_phi_deg=30.0)
+    mat = Material(name="block", E=1.0e5, nu=0.3, density=2.0,
+                   contact=Contact(damping=0.1, phi=30.0))
     out = {}
     old = numba.get_num_threads()
     try:

@@ -17,9 +17,9 @@ import math
 import numpy as np
 import pytest
 
-from hybrid.discrete import DiscreteMaterial
 from hybrid.discrete.builders import blocks
 from hybrid.discrete.run import energy_ledger, run
+from hybrid.materials import Contact, Material
 
 G_ACC = 9.81
 
@@ -35,8 +35,8 @@ def _residual_ratio(res):
 def test_block_drop_ledger_balances(zeta):
     """D5 set-up (a block dropped on two base blocks, run to rest): the ledger balances
     within 2 % of the work of gravity with and without contact damping."""
-    mat = DiscreteMaterial(E=1.0e5, nu=0.3, density=2.0, contact_damping=zeta,
-                           contact_phi_deg=30.0)
+    mat = Material(name="block", E=1.0e5, nu=0.3, density=2.0,
+                   contact=Contact(damping=zeta, phi=30.0))
     st = blocks([(1.0, 1.0, 4, 4, (0.0, 0.0), 0), (1.0, 1.0, 4, 4, (1.2, 0.0), 0),
                  (2.2, 0.5, 8, 2, (0.0, 1.05), 0)], [mat])
     st.fix(np.isclose(st.x_ref[:, 1], 0.0))
@@ -63,8 +63,8 @@ def test_sliding_block_friction_is_mu_n_slip_and_ledger_balances():
     """A block pushed along a rigid plane by F = 2 mu N slides: the friction dissipation
     over the sliding phase is mu N x slip, and the ledger balances within 2 %."""
     mu = math.tan(math.radians(30.0))
-    mat = DiscreteMaterial(E=1.0e5, nu=0.3, density=2.0, contact_damping=0.2,
-                           contact_phi_deg=30.0)
+    mat = Material(name="block", E=1.0e5, nu=0.3, density=2.0,
+                   contact=Contact(damping=0.2, phi=30.0))
     st = blocks([(20.0, 0.5, 40, 1, (0.0, 0.0), 0), (1.0, 1.0, 2, 2, (1.0, 0.5), 0)], [mat],
                 rigid=[0])
     blk = np.unique(st.element_nodes[40:].ravel())

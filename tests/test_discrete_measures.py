@@ -4,7 +4,7 @@ figures of a run."""
 import numpy as np
 import pytest
 
-from hybrid.discrete import DiscreteMaterial, rectangle
+from hybrid.discrete import rectangle
 from hybrid.discrete.figures import Snapshots
 from hybrid.discrete.measures import (
     interface_slip,
@@ -12,8 +12,9 @@ from hybrid.discrete.measures import (
     slip_trace,
     slipped_interfaces,
 )
+from hybrid.materials import Material
 
-ROCK = DiscreteMaterial(E=1e4, nu=0.2, density=2.0)
+ROCK = Material(name="block", E=1e4, nu=0.2, density=2.0)
 
 
 def _two_blocks(slide: float):

@@ -6,14 +6,15 @@ import math
 import numpy as np
 import pytest
 
-from hybrid.discrete import DiscreteMaterial, integrate, rectangle
+from hybrid.discrete import integrate, rectangle
+from hybrid.materials import Material
 
 
 def test_plane_strain_compression_plateau_tresca():
     """A Tresca block (phi = 0, c = 10 kPa) compressed in plane strain between smooth
     platens: the stress difference sigma_x - sigma_y levels off at 2c exactly."""
     c = 10.0
-    mat = DiscreteMaterial(E=1.0e4, nu=0.3, density=1.0, plastic=True, cohesion=c)
+    mat = Material(name="block", E=1.0e4, nu=0.3, density=1.0, plastic=True, cohesion=c)
     st = rectangle(1.0, 1.0, 2, 2, material=mat, gravity=(0.0, 0.0))
     xr = st.x_ref
     st.fix(np.isclose(xr[:, 1], 0.0), x=False, y=True)
@@ -40,7 +41,7 @@ def _punch(bbar, n, smax, V=0.005):
     """Smooth rigid strip footing (half-width 1 m, half model 5 m x 5 m) pushed at V into
     weightless Tresca soil; returns (settlement, q / ((2 + pi) c)) at 8 samples."""
     c = 10.0
-    mat = DiscreteMaterial(E=1.0e4, nu=0.3, density=1.0, plastic=True, cohesion=c)
+    mat = Material(name="block", E=1.0e4, nu=0.3, density=1.0, plastic=True, cohesion=c)
     W = 5.0
     st = rectangle(W, W, n, n, material=mat, gravity=(0.0, 0.0))
     xr = st.x_ref

@@ -1,17 +1,19 @@
 """Rigid platens (``DiscreteState.tie_rigidly``) and the plastic-strain cap of the element
 kernel (``run(plastic_strain_cap=...)``), both added for the hybrid footing failure (H2)."""
 
+import math
+
 import numpy as np
 import pytest
 
-from hybrid.discrete import DiscreteMaterial, DiscreteState, integrate, rectangle, ties
+from hybrid.discrete import DiscreteState, integrate, rectangle, ties
 from hybrid.discrete.run import run
-from hybrid.materials import Material, MaterialError
+from hybrid.materials import Bond, Contact, Material, MaterialError
 
 
-def _block(nx=4, ny=3, **kw):
-    mat = DiscreteMaterial(E=1.0e4, nu=0.3, density=2.0, interface_cohesion=0.0,
-                           interface_tensile_strength=0.0, **kw)
+def _block(nx=4, ny=3):
+    mat = Material(name="block", E=1.0e4, nu=0.3, density=2.0,
+                   bond=Bond(cohesion=0.0, tensile_strength=0.0))
     return rectangle(2.0, 1.5, nx, ny, material=mat, gravity=(0.0, -9.81))
 
 
@@ -58,7 +60,7 @@ def _sheared(cap):
     """A Tresca block (c = 10 kPa) sheared by its top at constant speed: (plastic strain,
     max |sigma_xy|) after a shear strain of 4 %, 20 times the yield strain."""
     c = 10.0
-    mat = DiscreteMaterial(E=1.0e4, nu=0.3, density=1.0, plastic=True, cohesion=c)
+    mat = Material(name="block", E=1.0e4, nu=0.3, density=1.0, plastic=True, cohesion=c)
     st = rectangle(1.0, 1.0, 2, 2, material=mat, gravity=(0.0, 0.0))
     st.fix(np.isclose(st.x_ref[:, 1], 0.0))
     st.fix(np.isclose(st.x_ref[:, 1], 1.0), velocity=(1e-3, 0.0))
@@ -86,15 +88,27 @@ def test_run_rejects_bad_cap():
         run(st, max_steps=1, plastic_strain_cap=0.0, progress=False)
 
 
-def test_material_contact_damping():
-    """Material.contact_damping reaches the discrete contact table; out of [0, 1] is refused
-    with the parameter named."""
+def test_material_reaches_the_discrete_tables():
+    """One ``Material`` fills the discrete tables: the contact record (damping, friction, k_n
+    defaulting to 10 E / element size, k_t to k_n), the bond (a plastic material's own c, phi
+    and apex cut-off; an elastic one's unbreakable), and the weight as density gamma / g.
+    Out-of-range contact damping is refused with the record and parameter named."""
     from hybrid.discrete.state import material_rows
 
-    m = Material(name="sand", E=7e4, nu=0.3, unit_weight=18.0, phi=30.0, contact_damping=0.2)
-    assert material_rows([m], 0.5)[4][0, 3] == 0.2
-    with pytest.raises(MaterialError, match="contact_damping"):
-        Material(name="sand", E=7e4, nu=0.3, unit_weight=18.0, phi=30.0, contact_damping=1.5)
+    sand = Material(name="sand", E=7e4, nu=0.3, unit_weight=18.0, cohesion=2.0, phi=30.0,
+                    contact=Contact(damping=0.2))
+    rock = Material(name="rock", E=1e6, nu=0.2, density=2.5,
+                    contact=Contact(normal_stiffness=5e6, shear_stiffness=5e5, phi=40.0))
+    mt, dens, elastic, bond, contact = material_rows([sand, rock], 0.5)
+    assert dens.tolist() == [18.0 / 9.81, 2.5] and elastic.tolist() == [False, True]
+    np.testing.assert_allclose(contact[0], [1.4e6, 1.4e6, math.tan(math.radians(30)), 0.2])
+    np.testing.assert_allclose(contact[1], [5e6, 5e5, math.tan(math.radians(40)), 0.0])
+    np.testing.assert_allclose(bond[0], [2.0, math.tan(math.radians(30)),
+                                         2.0 / math.tan(math.radians(30))])
+    assert bond[1, 0] == bond[1, 2] == math.inf
+    with pytest.raises(MaterialError, match="Contact: damping = 1.5"):
+        Material(name="sand", E=7e4, nu=0.3, unit_weight=18.0, phi=30.0,
+                 contact=Contact(damping=1.5))
 
 
 def test_frozen_elements_do_not_limit_the_time_step():
@@ -102,8 +116,8 @@ def test_frozen_elements_do_not_limit_the_time_step():
     stable time step; with nothing free the elements' own bound is returned."""
     from hybrid.discrete.builders import blocks
 
-    soft = DiscreteMaterial(E=1.0e3, nu=0.3, density=2.0)
-    stiff = DiscreteMaterial(E=1.0e7, nu=0.3, density=2.0)
+    soft = Material(name="block", E=1.0e3, nu=0.3, density=2.0)
+    stiff = Material(name="block", E=1.0e7, nu=0.3, density=2.0)
     st = blocks([(1.0, 1.0, 1, 1, (0.0, 0.0), 0), (1.0, 1.0, 1, 1, (2.0, 0.0), 1)],
                 [soft, stiff], gravity=(0.0, 0.0))
     both = integrate.stable_time_step(st, contact=False)

@@ -4,10 +4,11 @@ energy conservation of a spinning, vibrating element (objective update)."""
 import numpy as np
 import pytest
 
-from hybrid.discrete import DiscreteMaterial, integrate, rectangle
+from hybrid.discrete import integrate, rectangle
 from hybrid.discrete.run import energy_ledger, run
+from hybrid.materials import Material
 
-MAT = DiscreteMaterial(E=1.0e5, nu=0.25, density=2.0)
+MAT = Material(name="block", E=1.0e5, nu=0.25, density=2.0)
 
 
 def test_outputs_written(tmp_path):
@@ -117,9 +118,10 @@ def test_element_escaping_contact_grid_refused():
 
 _REPRO_SCRIPT = """
 import hashlib, numpy as np
-from hybrid.discrete import DiscreteMaterial, rectangle, integrate
-st = rectangle(3.0, 3.0, 3, 3, material=DiscreteMaterial(E=1e5, nu=0.3, density=2.0,
-               plastic=True, cohesion=5.0, phi_deg=20.0))
+from hybrid.discrete import rectangle, integrate
+from hybrid.materials import Material
+st = rectangle(3.0, 3.0, 3, 3, material=Material(name="clay", E=1e5, nu=0.3, density=2.0,
+               cohesion=5.0, phi=20.0))
 st.fix(np.isclose(st.x_ref[:, 1], 0.0))
 st.x[:, 0] += 0.01 * np.sin(st.x[:, 1])
 for k in range(50):

@@ -18,15 +18,15 @@ import pytest
 from hybrid.discrete import builders, ties
 from hybrid.discrete.contact import find_contact_pairs, overlap
 from hybrid.discrete.run import energy_ledger, run
-from hybrid.discrete.state import DiscreteMaterial
+from hybrid.materials import Bond, Contact, Material
 
 W = 1.0  # closing speed of each lower corner [m/s]
 DT = 2.5e-5  # [s]: 0.015 of the stable step (see the energy test for why)
 
 
 def _hinged_block():
-    mat = DiscreteMaterial(E=70000.0, nu=0.3, density=2.0, interface_tensile_strength=0.0,
-                           contact_phi_deg=0.0)
+    mat = Material(name="block", E=70000.0, nu=0.3, density=2.0, bond=Bond(tensile_strength=0.0),
+                   contact=Contact(phi=0.0))
     st = builders.rectangle(2.0, 2.0, 2, 2, material=mat, gravity=(0.0, 0.0))
     i01 = np.flatnonzero((np.sort(st.interface_elements, axis=1) == [0, 1]).all(axis=1))
     ties.split_interfaces(st, i01)

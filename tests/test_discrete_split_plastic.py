@@ -5,15 +5,16 @@ import math
 import numpy as np
 import pytest
 
-from hybrid.discrete import DiscreteMaterial, rectangle, ties
+from hybrid.discrete import rectangle, ties
+from hybrid.materials import Bond, Material
 
 
 @pytest.mark.parametrize("element", ["Q4", "T3"])
 def test_plastic_strain_limit_splits_only_strained_interfaces(element):
     """Interfaces fail (mode 3) where the mean plastic strain of the Gauss points next to the
     edge exceeds the limit, hold elsewhere, and never fail without a limit."""
-    mat = DiscreteMaterial(E=1.0e4, nu=0.0, density=2.0, interface_cohesion=1e3,
-                           interface_phi_deg=30.0, interface_tensile_strength=1e3)
+    mat = Material(name="block", E=1.0e4, nu=0.0, density=2.0,
+                   bond=Bond(cohesion=1e3, phi=30.0, tensile_strength=1e3))
     st = rectangle(3.0, 1.0, 3, 1, element, material=mat)
     st.stress[:] = [-10.0, -10.0, -10.0, 0.0]  # far from the traction criteria
     centroids = st.element_centroids()

@@ -5,10 +5,12 @@ import math
 import numpy as np
 import pytest
 
-from hybrid.discrete import DiscreteMaterial, DiscreteState, from_mesh, rectangle
+from hybrid.constitutive.table import kernel_row
+from hybrid.discrete import DiscreteState, from_mesh, rectangle
 from hybrid.discrete.builders import rectangle_mesh
+from hybrid.materials import Material, MaterialError
 
-MAT = DiscreteMaterial(E=1.0e5, nu=0.3, density=2.0)
+MAT = Material(name="block", E=1.0e5, nu=0.3, density=2.0)
 
 
 @pytest.mark.parametrize("element,nen,ngp", [("Q4", 4, 4), ("T3", 3, 1)])
@@ -49,14 +51,14 @@ def test_lumped_mass_of_distorted_quad():
                                rtol=1e-12)
 
 
-def test_accepts_project_material():
-    """hybrid.materials.Material converts with its own defaults (interface = own strength)."""
-    Material = pytest.importorskip("hybrid.materials").Material
+def test_material_table_is_the_shared_kernel_row():
+    """The discrete table holds the same kernel row as the continuum (``kernel_row``) and the
+    bond defaults to the material's own strength."""
     m = Material(name="clay", E=1.0e4, nu=0.3, unit_weight=19.62, cohesion=10.0, phi=30.0)
     st = rectangle(2.0, 2.0, 2, 2, material=m)
     assert math.isclose(st.density[0], 2.0, rel_tol=1e-12)
     assert not st.elastic_only[0]
-    np.testing.assert_allclose(st.material_table[0], m.mohr_coulomb_row(), rtol=1e-12)
+    np.testing.assert_allclose(st.material_table[0], kernel_row(m), rtol=1e-12)
     np.testing.assert_allclose(st.interface_table[0, :2], [10.0, math.tan(math.pi / 6)],
                                rtol=1e-12)
 
@@ -100,13 +102,18 @@ def test_nan_coordinates_refused():
 
 
 @pytest.mark.parametrize("kw,name", [(dict(E=-1.0), "E"), (dict(density=-2.0), "density"),
-                                     (dict(nu=0.5), "nu"), (dict(contact_kn=-1.0), "contact_kn"),
-                                     (dict(phi_deg=20.0, psi_deg=30.0), "psi_deg")])
+                                     (dict(nu=0.5), "nu"), (dict(phi=20.0, psi=30.0), "psi")])
 def test_bad_material_refused(kw, name):
     base = dict(E=1.0e5, nu=0.3, density=2.0)
     base.update(kw)
-    with pytest.raises(ValueError, match=f"DiscreteMaterial.{name}"):
-        DiscreteMaterial(**base)
+    with pytest.raises(MaterialError, match=f"material 'block': {name} = "):
+        Material(name="block", **base)
+
+
+def test_weightless_material_refused_by_the_discrete_engine():
+    pts, cells = rectangle_mesh(2.0, 1.0, 2, 1)
+    with pytest.raises(ValueError, match="needs mass"):
+        from_mesh(pts, cells, [0, 0], [Material(name="air", E=1e5, nu=0.3)])
 
 
 def test_bad_mesh_arguments_refused():

@@ -6,14 +6,14 @@ import math
 import numpy as np
 import pytest
 
-from hybrid.discrete import DiscreteMaterial, integrate, rectangle, ties
+from hybrid.discrete import integrate, rectangle, ties
 from hybrid.discrete.run import run
+from hybrid.materials import Bond, Material
 
 
-def _mat(**kw):
-    base = dict(E=1.0e4, nu=0.0, density=2.0)
-    base.update(kw)
-    return DiscreteMaterial(**base)
+def _mat(**bond):
+    """An elastic material whose bonds have the given strengths (the others unbreakable)."""
+    return Material(name="block", E=1.0e4, nu=0.0, density=2.0, bond=Bond(**bond))
 
 
 @pytest.mark.parametrize("element", ["Q4", "T3"])
@@ -21,7 +21,7 @@ def test_failure_criteria_thresholds(element):
     """Uniform prescribed stress: tension and Mohr-Coulomb shear thresholds to 1 %."""
     c, phi, ft = 10.0, 30.0, 5.0
     st = rectangle(3.0, 3.0, 3, 3, element, material=_mat(
-        interface_cohesion=c, interface_phi_deg=phi, interface_tensile_strength=ft))
+        cohesion=c, phi=phi, tensile_strength=ft))
     ifn = st.interface_nodes
     d = st.x[ifn[:, 1]] - st.x[ifn[:, 0]]
     horizontal = np.abs(d[:, 1]) < 1e-12  # normal (0, +-1): sigma_N = sigma_yy
@@ -46,8 +46,8 @@ def test_failure_criteria_thresholds(element):
 
 def test_weaker_material_governs():
     """An interface between two materials uses the smaller strength of the two."""
-    strong = _mat(interface_tensile_strength=100.0)
-    weak = _mat(interface_tensile_strength=10.0)
+    strong = _mat(tensile_strength=100.0)
+    weak = _mat(tensile_strength=10.0)
     from hybrid.discrete.builders import rectangle_mesh
     from hybrid.discrete.state import from_mesh
 
@@ -86,7 +86,7 @@ def test_bar_pulled_apart_splits_at_tensile_strength():
     """A bar pulled slowly at one end splits when the axial stress reaches the interface
     tensile strength: the support reaction at the split equals ft * h to 2 %."""
     ft, h, L = 20.0, 1.0, 10.0
-    st = rectangle(L, h, 10, 1, material=_mat(interface_tensile_strength=ft),
+    st = rectangle(L, h, 10, 1, material=_mat(tensile_strength=ft),
                    gravity=(0.0, 0.0))
     left = np.isclose(st.x_ref[:, 0], 0.0)
     right = np.isclose(st.x_ref[:, 0], L)
@@ -126,8 +126,8 @@ def test_no_tension_beam_splits_where_normal_stress_is_tensile():
     interfaces in the middle half of the span split below the neutral axis (sigma_N =
     sigma_xx > 0, beam theory) and hold above it."""
     L, h = 10.0, 1.0
-    mat = DiscreteMaterial(E=1.0e5, nu=0.2, density=2.0, interface_tensile_strength=0.0,
-                           interface_cohesion=1e9)
+    mat = Material(name="block", E=1.0e5, nu=0.2, density=2.0,
+                   bond=Bond(tensile_strength=0.0, cohesion=1e9))
     st = rectangle(L, h, 20, 4, material=mat)
     bottom = np.isclose(st.x_ref[:, 1], 0.0)
     st.fix(bottom & np.isclose(st.x_ref[:, 0], 0.0))
@@ -156,7 +156,7 @@ def test_no_tension_beam_splits_where_normal_stress_is_tensile():
 
 def test_splitting_limited_to_a_region():
     """Only interfaces touching the chosen elements are checked (the handover's region)."""
-    st = rectangle(3.0, 1.0, 3, 1, material=_mat(interface_tensile_strength=1.0))
+    st = rectangle(3.0, 1.0, 3, 1, material=_mat(tensile_strength=1.0))
     st.stress[:] = [10.0, 0.0, 0.0, 0.0]  # both vertical interfaces over-stressed in tension
     assert ties.limit_splitting(st, [0]) == 1  # only the interface between elements 0 and 1
     modes = ties.check_interfaces(st)

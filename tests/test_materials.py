@@ -5,7 +5,8 @@ import warnings
 
 import pytest
 
-from hybrid.materials import Material, MaterialError, MaterialWarning
+from hybrid.constitutive.table import tension_cutoff
+from hybrid.materials import Bond, Contact, Material, MaterialError, MaterialWarning
 
 
 @pytest.mark.parametrize(
@@ -23,7 +24,9 @@ from hybrid.materials import Material, MaterialError, MaterialWarning
         ({"tensile_strength": -1.0}, "tensile_strength"),
         ({"E": float("nan")}, "E"),
         ({"plastic": True}, "cohesion"),
-        ({"contact_stiffness": 0.0}, "contact_stiffness"),
+        ({"density": -1.0}, "density"),
+        ({"unit_weight": 18.0, "density": 2.0}, "density"),
+        ({"E": True}, "E"),
     ],
 )
 def test_invalid_parameters_are_named(kwargs, param):
@@ -41,12 +44,12 @@ def test_derived_quantities():
     assert m.k0 == pytest.approx(0.35 / 0.65, rel=1e-14)
     assert m.density == pytest.approx(16.5 / 9.81, rel=1e-14)
     assert m.is_plastic
-    assert m.resolved_tensile_strength() == 0.0  # c = 0: no tension
+    assert tension_cutoff(m.peak) == 0.0  # c = 0: no tension
     clay = Material(name="clay", E=1e4, nu=0.3, cohesion=69.0, phi=20.0)
-    assert clay.resolved_tensile_strength() == pytest.approx(69 / math.tan(math.radians(20)))
+    assert tension_cutoff(clay.peak) == pytest.approx(69 / math.tan(math.radians(20)))
     # a given tension cut-off is capped at the apex c cot(phi) (the kernel's assumption)
     capped = Material(name="clay", E=1e4, nu=0.3, cohesion=69.0, phi=20.0, tensile_strength=1e6)
-    assert capped.resolved_tensile_strength() == clay.resolved_tensile_strength()
+    assert tension_cutoff(capped.peak) == tension_cutoff(clay.peak)
     weak = clay.weakened(1.5)
     assert weak.cohesion == pytest.approx(46.0)
     assert math.tan(math.radians(weak.phi)) == pytest.approx(math.tan(math.radians(20)) / 1.5)
@@ -70,3 +73,29 @@ def test_values_in_the_wrong_unit_are_flagged():
         warnings.simplefilter("error", MaterialWarning)
         weak = Material(name="rock", E=3e4, nu=0.3, cohesion=1.0, phi=1.0)
         assert weak.weakened(2.0).phi < 1.0  # a reduced angle is not a unit slip
+
+
+def test_bond_and_contact_records():
+    """Bond and contact are records of their own: validated with the record and parameter
+    named, weakened with the material (given angles reduced, None left to follow c and phi),
+    and the weight is given once, as unit weight or as density."""
+    with pytest.raises(MaterialError, match="Contact: normal_stiffness = 0.0"):
+        Contact(normal_stiffness=0.0)
+    with pytest.raises(MaterialError, match="Contact: damping = 1.5"):
+        Contact(damping=1.5)
+    with pytest.raises(MaterialError, match="Bond: tensile_strength = -1.0"):
+        Bond(tensile_strength=-1.0)
+    with pytest.raises(MaterialError, match="Bond: phi = 95"):
+        Bond(phi=95)
+    with pytest.raises(MaterialError, match="bond = "):
+        Material(name="clay", E=1e4, nu=0.3, bond={"cohesion": 1.0})
+    clay = Material(name="clay", E=1e4, nu=0.3, density=2.0, cohesion=10.0, phi=30.0,
+                    bond=Bond(cohesion=4.0, phi=20.0), contact=Contact(phi=25.0, damping=0.2))
+    assert clay.unit_weight == 2.0 * 9.81 and clay.density == 2.0
+    weak = clay.weakened(2.0)
+    assert weak.bond.cohesion == 2.0 and weak.bond.tensile_strength is None
+    assert math.tan(math.radians(weak.bond.phi)) == pytest.approx(math.tan(math.radians(20)) / 2)
+    assert math.tan(math.radians(weak.contact.phi)) == pytest.approx(
+        math.tan(math.radians(25)) / 2)
+    assert weak.contact.damping == 0.2 and weak.density == 2.0
+    assert clay.peak.cohesion == 10.0 and clay.peak.phi == 30.0

@@ -11,24 +11,35 @@ import pytest
 
 from hybrid.constitutive import (
     NO_TENSION_CUTOFF,
+    NO_YIELD,
     REGION_NAMES,
     VERTEX_STABILISATION,
-    MohrCoulombParameters,
+    kernel_row,
     mohr_coulomb_point,
     mohr_coulomb_update,
     return_principal,
     update_stress,
     yield_function,
 )
+from hybrid.materials import Material, MaterialError
 
 C = 10.0  # cohesion (kPa) of the test materials
 E, NU = 2.0e4, 0.3
 
 
+def _material(E, nu, cohesion, phi, psi=0.0, tensile_strength=None):
+    """A plastic Mohr-Coulomb ``Material`` (kPa, degrees)."""
+    return Material(name="test", E=E, nu=nu, cohesion=cohesion, phi=phi, psi=psi,
+                    tensile_strength=tensile_strength, plastic=True)
+
+
+def _row(m):
+    """The kernel's material-table row of ``m`` as an array."""
+    return np.array(kernel_row(m))
+
+
 def _params(phi, psi, t=None):
-    return MohrCoulombParameters(
-        E=E, nu=NU, cohesion=C, phi_deg=phi, psi_deg=psi, tensile_strength=t
-    )
+    return _material(E, NU, C, phi, psi, t)
 
 
 # (phi, psi, tensile strength): associated, non-associated, psi = 0; without (None -> c cot phi)
@@ -99,7 +110,7 @@ def _yield_composite(stress, row):
 
 @pytest.mark.parametrize("phi,psi,t", CASES)
 def test_return_lies_on_yield_surface_all_regions(phi, psi, t):
-    row = _params(phi, psi, t).row()
+    row = _row(_params(phi, psi, t))
     rng = np.random.default_rng(1)
     old, de, trial = _random_states(rng, 4000, row)
     new, _, deq, yielded = update_stress(old, de, _params(phi, psi, t), want_tangent=False)
@@ -123,7 +134,7 @@ def test_return_lies_on_yield_surface_all_regions(phi, psi, t):
 
 def test_elastic_states_unchanged():
     p = _params(30.0, 10.0, 5.0)
-    row = p.row()
+    row = _row(p)
     rng = np.random.default_rng(2)
     old, de, trial = _random_states(rng, 3000, row)
     g, _ = _yield_composite(trial, row)
@@ -131,7 +142,7 @@ def test_elastic_states_unchanged():
     old, de, trial = old[keep], de[keep], trial[keep]
     assert len(old) > 100
     new, tan, deq, yielded = update_stress(old, de, p)
-    D = _elastic_matrix(p.K, p.G)
+    D = _elastic_matrix(p.bulk_modulus, p.shear_modulus)
     # the elastic predictor is returned as is: agreement to round-off (1e-12 relative)
     scale = np.max(np.abs(trial), axis=1, keepdims=True)
     assert np.max(np.abs(new - (old + de @ D.T)) / scale) < 1e-12
@@ -157,7 +168,7 @@ def _fd_tangent(old, de, row, h):
 
 @pytest.mark.parametrize("phi,psi,t", [(30.0, 10.0, 5.0), (30.0, 30.0, None), (20.0, 0.0, None)])
 def test_tangent_matches_finite_differences(phi, psi, t):
-    row = _params(phi, psi, t).row()
+    row = _row(_params(phi, psi, t))
     D = _elastic_matrix(row[0], row[1])
     rng = np.random.default_rng(3)
     old, de, trial = _random_states(rng, 600, row)
@@ -190,13 +201,13 @@ def test_tangent_matches_finite_differences(phi, psi, t):
 def test_tangent_repeated_in_plane_eigenvalues():
     """sxx = syy, sxy = 0: the spin term takes its limit; FD still agrees (1e-5)."""
     p = _params(30.0, 10.0)
-    row = p.row()
+    row = _row(p)
     old = np.array([-20.0, -20.0, -20.0, 0.0])
     out = np.empty(4)
     tan = np.empty((4, 4))
     for de in (np.array([-1e-3, -1e-3, 4e-3, 0.0]), np.array([2e-3, 2e-3, -4e-3, 0.0])):
         mohr_coulomb_point(*old, *de, *row, out, tan, True)
-        trial = old + _elastic_matrix(p.K, p.G) @ de
+        trial = old + _elastic_matrix(p.bulk_modulus, p.shear_modulus) @ de
         reg = _regions(trial[None], row)[0]
         assert REGION_NAMES[reg] in ("edge s1=s2", "edge s2=s3")
         J = _fd_tangent(old, de, row, 1e-8)
@@ -208,16 +219,17 @@ def test_apex_tangent_is_stabilised_elastic():
     p = _params(30.0, 0.0)
     out = np.empty(4)
     tan = np.empty((4, 4))
-    mohr_coulomb_point(0.0, 0.0, 0.0, 0.0, 1e-2, 1e-2, 1e-2, 0.0, *p.row(), out, tan, True)
+    mohr_coulomb_point(0.0, 0.0, 0.0, 0.0, 1e-2, 1e-2, 1e-2, 0.0, *_row(p), out, tan, True)
     apex = C / math.tan(math.radians(30.0))
     assert np.allclose(out, [apex, apex, apex, 0.0], rtol=1e-14, atol=1e-12)
-    assert np.allclose(tan, VERTEX_STABILISATION * _elastic_matrix(p.K, p.G), rtol=1e-12)
+    D = _elastic_matrix(p.bulk_modulus, p.shear_modulus)
+    assert np.allclose(tan, VERTEX_STABILISATION * D, rtol=1e-12)
 
 
 def test_tresca_limit():
     """phi = 0: every plastic return has (s1 - s3)/2 = c (to round-off, 1e-12 c)."""
-    p = MohrCoulombParameters(E=E, nu=NU, cohesion=50.0, phi_deg=0.0, psi_deg=0.0)
-    row = p.row()
+    p = _material(E=E, nu=NU, cohesion=50.0, phi=0.0, psi=0.0)
+    row = _row(p)
     assert row[6] == NO_TENSION_CUTOFF
     rng = np.random.default_rng(4)
     old, de, trial = _random_states(rng, 2000, row, -400.0, 200.0)
@@ -256,7 +268,7 @@ def _rotation(theta):
 def test_rotation_invariance(phi, psi, t):
     p = _params(phi, psi, t)
     rng = np.random.default_rng(5)
-    old, de, _ = _random_states(rng, 500, p.row())
+    old, de, _ = _random_states(rng, 500, _row(p))
     new, tan, deq, _ = update_stress(old, de, p)
     for theta in (0.3, 1.1, -2.0):
         Ts, Te = _rotation(theta)
@@ -274,12 +286,12 @@ def test_rotation_invariance(phi, psi, t):
 def test_plastic_flow_direction_main_plane(psi):
     """Main-plane return: d_eps_p parallel to dG/dsigma = (1 + sin psi, 0, -(1 - sin psi))."""
     p = _params(30.0, psi)
-    row = p.row()
+    row = _row(p)
     rng = np.random.default_rng(6)
     old, de, trial = _random_states(rng, 1500, row)
     reg = _regions(trial, row)
     new, _, deq, _ = update_stress(old, de, p, want_tangent=False)
-    D = _elastic_matrix(p.K, p.G)
+    D = _elastic_matrix(p.bulk_modulus, p.shear_modulus)
     sel = reg == 1
     assert sel.sum() > 100
     ep = de[sel] - np.linalg.solve(D, (new[sel] - old[sel]).T).T  # engineering shear
@@ -376,8 +388,8 @@ def test_matches_bruteforce_kuhn_tucker_reference(phi, psi, t, c):
     finds exactly one point. Non-associated: the kernel must be one of the points found.
     Agreement 1e-8 relative (both are exact linear solves; round-off ~1e-13 measured).
     """
-    p = MohrCoulombParameters(E, NU, c, phi, psi, t)
-    row = p.row()
+    p = _material(E, NU, c, phi, psi, t)
+    row = _row(p)
     rng = np.random.default_rng(7)
     pr = np.vstack(
         [
@@ -408,8 +420,9 @@ def test_associated_return_is_energy_closest_point_scipy():
     """Associated case against scipy SLSQP (independent QP solver), 1e-6 (SLSQP's accuracy)."""
     optimize = pytest.importorskip("scipy.optimize")
     p = _params(30.0, 30.0, 5.0)
-    row = p.row()
-    Cp = np.linalg.inv((p.K - 2 * p.G / 3) * np.ones((3, 3)) + 2 * p.G * np.eye(3))
+    row = _row(p)
+    K, G = p.bulk_modulus, p.shear_modulus
+    Cp = np.linalg.inv((K - 2 * G / 3) * np.ones((3, 3)) + 2 * G * np.eye(3))
     planes = _planes_unsorted(row)
     rng = np.random.default_rng(8)
     old, de, trial = _random_states(rng, 40, row)
@@ -420,9 +433,9 @@ def test_associated_return_is_energy_closest_point_scipy():
             for n, _, r in planes
         ]
         res = optimize.minimize(
-            lambda x, s=s_tr: 0.5 * (x - s) @ Cp @ (x - s) * p.G,
+            lambda x, s=s_tr: 0.5 * (x - s) @ Cp @ (x - s) * p.shear_modulus,
             s_tr,
-            jac=lambda x, s=s_tr: Cp @ (x - s) * p.G,
+            jac=lambda x, s=s_tr: Cp @ (x - s) * p.shear_modulus,
             constraints=cons,
             method="SLSQP",
             options={"ftol": 1e-14, "maxiter": 200},
@@ -433,11 +446,11 @@ def test_associated_return_is_energy_closest_point_scipy():
 
 def test_vectorised_update_million_points_matches_point_function():
     p1 = _params(30.0, 10.0, 5.0)
-    p2 = MohrCoulombParameters(E=5.0e4, nu=0.25, cohesion=0.0, phi_deg=35.0, psi_deg=5.0)
-    table = np.stack([p1.row(), p2.row()])
+    p2 = _material(E=5.0e4, nu=0.25, cohesion=0.0, phi=35.0, psi=5.0)
+    table = np.stack([_row(p1), _row(p2)])
     n = 1_000_000
     rng = np.random.default_rng(9)
-    old, de, _ = _random_states(rng, n, p1.row())
+    old, de, _ = _random_states(rng, n, _row(p1))
     mat = rng.integers(0, 2, n)
     stress = np.empty((n, 4))
     tangent = np.empty((n, 4, 4))
@@ -459,10 +472,10 @@ def test_no_allocation_per_point():
     """The NRT allocation count of one vectorised call does not grow with the point count."""
     rtsys = pytest.importorskip("numba.core.runtime").rtsys
     p = _params(30.0, 10.0, 5.0)
-    table = p.row()[None]
+    table = _row(p)[None]
     counts = []
     for n in (10, 20_000):
-        old, de, _ = _random_states(np.random.default_rng(10), n, p.row())
+        old, de, _ = _random_states(np.random.default_rng(10), n, _row(p))
         args = (
             old,
             de,
@@ -485,7 +498,7 @@ def test_single_point_wrapper():
     """A (4,) input gives a (4,) stress, (4, 4) tangent and scalars. With nu = 0 an axial
     strain is uniaxial stress while elastic: the elastic limit is the closed-form uniaxial
     compressive strength q_u = 2 c cos(phi) / (1 - sin(phi)) (yield at 1.01 q_u, not 0.99)."""
-    p = MohrCoulombParameters(E=E, nu=0.0, cohesion=C, phi_deg=30.0, psi_deg=30.0)
+    p = _material(E=E, nu=0.0, cohesion=C, phi=30.0, psi=30.0)
     # nu = 0: a pure axial strain gives uniaxial stress while elastic
     s, tan, deq, y = update_stress(np.zeros(4), np.array([0.0, -5e-3, 0.0, 0.0]), p)
     assert s.shape == (4,) and tan.shape == (4, 4) and np.ndim(deq) == 0 and y == 1
@@ -498,25 +511,21 @@ def test_single_point_wrapper():
     assert y_pl == 1 and d_pl > 0
 
 
-def test_parameters_validation_and_row():
-    p = MohrCoulombParameters(E=1.0e4, nu=0.25, cohesion=5.0, phi_deg=30.0, psi_deg=0.0)
-    assert p.K == pytest.approx(1.0e4 / 1.5) and p.G == pytest.approx(4.0e3)
-    row = p.row()
+def test_kernel_row_of_a_material():
+    """The kernel row: K, G, c, sin/cos phi, sin psi and the tension cut-off, the apex
+    c cot(phi) unless a lower one is given; phi = 0 without a cut-off has none; an elastic
+    material's row never yields. Validation of the numbers is the Material's (test_materials)."""
+    p = _material(E=1.0e4, nu=0.25, cohesion=5.0, phi=30.0, psi=0.0)
+    row = _row(p)
+    np.testing.assert_allclose(row[:6], [1.0e4 / 1.5, 4.0e3, 5.0, 0.5, math.sqrt(0.75), 0.0],
+                               rtol=1e-14)
     assert row[6] == pytest.approx(5.0 / math.tan(math.radians(30.0)), rel=1e-14)
-    assert MohrCoulombParameters(1e4, 0.25, 5.0, 30.0, 0.0, 2.0).row()[6] == 2.0
-    bad = [
-        (dict(E=0.0), "E"),
-        (dict(nu=0.5), "nu"),
-        (dict(cohesion=-1.0), "cohesion"),
-        (dict(phi_deg=90.0), "phi_deg"),
-        (dict(psi_deg=40.0), "psi_deg"),
-        (dict(cohesion=0.0, phi_deg=0.0), "cohesion"),
-        (dict(tensile_strength=-1.0), "tensile_strength"),
-    ]
-    base = dict(E=1e4, nu=0.3, cohesion=5.0, phi_deg=30.0, psi_deg=0.0)
-    for change, name in bad:
-        with pytest.raises(ValueError, match=name):
-            MohrCoulombParameters(**{**base, **change})
+    assert _row(_material(1e4, 0.25, 5.0, 30.0, 0.0, 2.0))[6] == 2.0
+    assert _row(_material(1e4, 0.25, 5.0, 0.0))[6] == NO_TENSION_CUTOFF
+    elastic = _row(Material(name="rock", E=1e4, nu=0.25))
+    assert elastic[2] == elastic[6] == NO_YIELD and elastic[3] == 0.0
+    with pytest.raises(MaterialError, match="cohesion"):
+        _material(1e4, 0.25, 0.0, 0.0)  # plastic without strength
 
 
 def test_update_stress_input_errors():
@@ -532,7 +541,7 @@ def test_update_stress_input_errors():
             np.zeros((2, 4)),
             np.zeros((2, 4)),
             material_of_point=[0, 3],
-            material_table=p.row()[None],
+            material_table=_row(p)[None],
         )
     with pytest.raises(ValueError, match="material_table"):
         update_stress(

@@ -48,26 +48,26 @@ compliance), volumetric part included. The accumulated value is the sum of the i
 from __future__ import annotations
 
 import math
-import numbers
-from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numba
 import numpy as np
 
+from hybrid.constitutive.table import kernel_row
+
+if TYPE_CHECKING:
+    from hybrid.materials import Material
+
 __all__ = [
-    "MohrCoulombParameters",
     "mohr_coulomb_point",
     "mohr_coulomb_update",
     "return_principal",
     "update_stress",
     "yield_function",
-    "NO_TENSION_CUTOFF",
     "VERTEX_STABILISATION",
     "REGION_NAMES",
 ]
 
-#: Tensile strength used when phi = 0 and no tensile strength is given (kPa): no cut-off.
-NO_TENSION_CUTOFF = 1.0e12
 #: Fraction of the elastic matrix added to the tangent at a vertex (apex) return.
 VERTEX_STABILISATION = 1.0e-5
 
@@ -525,79 +525,14 @@ def mohr_coulomb_update(
         yielded[q] = flag
 
 
-@dataclass(frozen=True)
-class MohrCoulombParameters:
-    """Elastic-perfectly plastic Mohr-Coulomb material (SI: kPa, degrees).
-
-    ``E`` Young's modulus (kPa), ``nu`` Poisson's ratio, ``cohesion`` c (kPa), ``phi_deg``
-    friction angle, ``psi_deg`` dilation angle (degrees), ``tensile_strength`` (kPa, None:
-    ``c cot(phi)``, i.e. no cut-off below the apex; ``NO_TENSION_CUTOFF`` when phi = 0).
-    """
-
-    E: float
-    nu: float
-    cohesion: float
-    phi_deg: float
-    psi_deg: float = 0.0
-    tensile_strength: float | None = None
-
-    def __post_init__(self) -> None:
-        def bad(name: str, value: object, rule: str) -> ValueError:
-            return ValueError(f"MohrCoulombParameters: {name} = {value!r} invalid; need {rule}")
-
-        for name in ("E", "nu", "cohesion", "phi_deg", "psi_deg"):
-            v = getattr(self, name)
-            if not isinstance(v, numbers.Real) or not math.isfinite(v):
-                raise bad(name, v, "a finite number")
-        if self.E <= 0.0:
-            raise bad("E", self.E, "E > 0 (kPa)")
-        if not 0.0 <= self.nu < 0.5:
-            raise bad("nu", self.nu, "0 <= nu < 0.5")
-        if self.cohesion < 0.0:
-            raise bad("cohesion", self.cohesion, "cohesion >= 0 (kPa)")
-        if not 0.0 <= self.phi_deg < 90.0:
-            raise bad("phi_deg", self.phi_deg, "0 <= phi_deg < 90 (degrees)")
-        if not 0.0 <= self.psi_deg <= self.phi_deg:
-            raise bad("psi_deg", self.psi_deg, f"0 <= psi_deg <= phi_deg = {self.phi_deg}")
-        if self.cohesion == 0.0 and self.phi_deg == 0.0:
-            raise bad("cohesion", 0.0, "cohesion > 0 when phi_deg = 0 (no strength otherwise)")
-        t = self.tensile_strength
-        if t is not None:
-            if not isinstance(t, numbers.Real) or not math.isfinite(t) or t < 0.0:
-                raise bad("tensile_strength", t, "None or a finite value >= 0 (kPa)")
-
-    @property
-    def K(self) -> float:
-        """Bulk modulus E / (3 (1 - 2 nu)) (kPa)."""
-        return self.E / (3.0 * (1.0 - 2.0 * self.nu))
-
-    @property
-    def G(self) -> float:
-        """Shear modulus E / (2 (1 + nu)) (kPa)."""
-        return self.E / (2.0 * (1.0 + self.nu))
-
-    def row(self) -> np.ndarray:
-        """Material-table row ``[K, G, c, sin_phi, cos_phi, sin_psi, t]`` (kPa, -).
-
-        ``t = min(tensile_strength, c cot(phi))``; ``c cot(phi)`` when None
-        (``NO_TENSION_CUTOFF`` when phi = 0).
-        """
-        phi = math.radians(self.phi_deg)
-        sin_phi, cos_phi = math.sin(phi), math.cos(phi)
-        apex = self.cohesion * cos_phi / sin_phi if sin_phi > 0.0 else NO_TENSION_CUTOFF
-        t = apex if self.tensile_strength is None else min(self.tensile_strength, apex)
-        sin_psi = math.sin(math.radians(self.psi_deg))
-        return np.array([self.K, self.G, self.cohesion, sin_phi, cos_phi, sin_psi, t])
-
-
 def _check_table(table: np.ndarray) -> None:
     if table.ndim != 2 or table.shape[1] != 7 or table.shape[0] < 1:
         raise ValueError(
             f"material_table has shape {table.shape}; need (nmat, 7) rows "
-            "[K, G, c, sin_phi, cos_phi, sin_psi, t] (MohrCoulombParameters.row())"
+            "[K, G, c, sin_phi, cos_phi, sin_psi, t] (hybrid.constitutive.table.kernel_table)"
         )
     if not np.all(np.isfinite(table)):
-        raise ValueError("material_table holds NaN or inf; use finite values (row())")
+        raise ValueError("material_table holds NaN or inf; use finite values (kernel_table)")
     K, G, c, sphi, cphi, spsi, t = table.T
     if np.any(K <= 0) or np.any(G <= 0):
         raise ValueError("material_table: K and G (columns 0, 1) must be > 0 kPa")
@@ -614,7 +549,7 @@ def _check_table(table: np.ndarray) -> None:
 def update_stress(
     stress_old: np.ndarray,
     strain_increment: np.ndarray,
-    params: MohrCoulombParameters | None = None,
+    material: Material | None = None,
     *,
     material_of_point: np.ndarray | None = None,
     material_table: np.ndarray | None = None,
@@ -623,9 +558,10 @@ def update_stress(
     """Mohr-Coulomb stress update of ``n`` points (checked wrapper of ``mohr_coulomb_update``).
 
     ``stress_old``, ``strain_increment``: (n, 4) or (4,), Voigt (xx, yy, zz, xy), kPa and
-    engineering shear. Give either ``params`` (one material) or ``material_of_point`` (n,) with
-    ``material_table`` (nmat, 7). Returns ``(stress_new (n, 4), tangent (n, 4, 4) or None,
-    d_eps_p_eq (n,), yielded (n,) int8)`` (one point: shapes (4,), (4, 4), scalars).
+    engineering shear. Give either ``material`` (one ``Material``; its row from ``kernel_row``)
+    or ``material_of_point`` (n,) with ``material_table`` (nmat, 7). Returns ``(stress_new
+    (n, 4), tangent (n, 4, 4) or None, d_eps_p_eq (n,), yielded (n,) int8)`` (one point: shapes
+    (4,), (4, 4), scalars).
     """
     s0 = np.ascontiguousarray(stress_old, dtype=np.float64)
     de = np.ascontiguousarray(strain_increment, dtype=np.float64)
@@ -642,14 +578,15 @@ def update_stress(
     if not (np.all(np.isfinite(s0)) and np.all(np.isfinite(de))):
         raise ValueError("stress_old or strain_increment holds NaN/inf; pass finite values")
     n = s0.shape[0]
-    if params is not None:
+    if material is not None:
         if material_of_point is not None or material_table is not None:
-            raise ValueError("give either params or material_of_point + material_table, not both")
-        table = params.row().reshape(1, 7)
+            raise ValueError("give either material or material_of_point + material_table, "
+                             "not both")
+        table = np.array(kernel_row(material)).reshape(1, 7)
         mat = np.zeros(n, dtype=np.int64)
     else:
         if material_of_point is None or material_table is None:
-            raise ValueError("give params, or both material_of_point and material_table")
+            raise ValueError("give material, or both material_of_point and material_table")
         table = np.ascontiguousarray(material_table, dtype=np.float64)
         mat = np.asarray(material_of_point)
         if not np.issubdtype(mat.dtype, np.integer):

@@ -45,6 +45,7 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from hybrid.constitutive.mohr_coulomb import mohr_coulomb_update
+from hybrid.constitutive.table import kernel_table
 from hybrid.continuum.fields import (
     Discretisation,
     MaterialFields,
@@ -65,19 +66,10 @@ __all__ = ["Analysis", "IncrementControl", "NewtonOptions", "PlasticSolver", "St
 
 log = logging.getLogger(__name__)
 
-_NO_YIELD = 1e30  # cohesion and tension cut-off of a material that stays elastic [kPa]
-
 
 def material_table(materials: Sequence[Material], strength_factor: float = 1.0) -> np.ndarray:
     """Rows [K, G, c, sin phi, cos phi, sin psi, t] of the kernel, strength divided by F."""
-    rows = []
-    for m in materials:
-        if m.is_plastic:
-            rows.append(m.weakened(strength_factor).mohr_coulomb_row()
-                        if strength_factor != 1.0 else m.mohr_coulomb_row())
-        else:
-            rows.append((m.bulk_modulus, m.shear_modulus, _NO_YIELD, 0.0, 1.0, 0.0, _NO_YIELD))
-    return np.array(rows, dtype=float)
+    return kernel_table(materials, strength_factor)[0]
 
 
 @dataclass(frozen=True)

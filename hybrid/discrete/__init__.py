@@ -1,11 +1,12 @@
 """Discrete finite element engine (numba): deformable elements with ties, splitting, contact.
 
-Public API: ``DiscreteState`` / ``DiscreteMaterial`` / ``from_mesh`` (state), ``rectangle``
-(builders), ``step`` / ``stable_time_step`` (integrate), ``check_interfaces`` /
-``split_interfaces`` (ties) and ``run`` (the loop). Import the submodules directly for more.
+Public API: ``DiscreteState`` / ``from_mesh`` (state; its materials are
+``hybrid.materials.Material``), ``rectangle`` (builders), ``step`` / ``stable_time_step``
+(integrate), ``check_interfaces`` / ``split_interfaces`` (ties) and ``run`` (the loop). Import
+the submodules directly for more.
 """
 
 from hybrid.discrete.builders import rectangle
-from hybrid.discrete.state import DiscreteMaterial, DiscreteState, from_mesh
+from hybrid.discrete.state import DiscreteState, from_mesh
 
-__all__ = ["DiscreteMaterial", "DiscreteState", "from_mesh", "rectangle"]
+__all__ = ["DiscreteState", "from_mesh", "rectangle"]

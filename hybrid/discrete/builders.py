@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from hybrid.discrete.state import DiscreteMaterial, DiscreteState, from_mesh
-from hybrid.materials import GRAVITY
+from hybrid.discrete.state import DiscreteState, from_mesh
+from hybrid.materials import GRAVITY, Material
 
 __all__ = ["rectangle", "rectangle_mesh", "blocks"]
 
@@ -46,7 +46,7 @@ def rectangle_mesh(width: float, height: float, nx: int, ny: int, element: str =
 
 
 def rectangle(width: float, height: float, nx: int, ny: int, element: str = "Q4", *,
-              material: DiscreteMaterial, origin=(0.0, 0.0),
+              material: Material, origin=(0.0, 0.0),
               gravity=(0.0, -GRAVITY)) -> DiscreteState:
     """A tied rectangle of nx x ny cells (Q4, or T3 with two triangles per cell) of one
     material, lower-left corner at ``origin`` [m]; all coincident nodes tied, every inner edge
@@ -61,7 +61,7 @@ def blocks(specs, materials, element: str = "Q4", *, gravity=(0.0, -GRAVITY),
     """Several separate rectangular bodies in one state (not tied to each other).
 
     specs: sequence of (width, height, nx, ny, origin, material_index); materials: sequence of
-    DiscreteMaterial; rigid: indices of specs whose nodes are all fixed (ground, walls), which
+    Material; rigid: indices of specs whose nodes are all fixed (ground, walls), which
     makes them rigid contact bodies. Each body is tied inside; bodies meet only by contact.
     """
     pts, cells, mats, owner = [], [], [], []

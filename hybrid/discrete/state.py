@@ -9,14 +9,16 @@ Sign convention: tension positive. Stress in Voigt order (xx, yy, zz, xy).
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field, fields
 from pathlib import Path
 
 import numpy as np
 
-from hybrid.materials import GRAVITY
+from hybrid.constitutive.table import kernel_table, tension_cutoff
+from hybrid.materials import GRAVITY, Material
 
-__all__ = ["DiscreteMaterial", "DiscreteState", "from_mesh", "material_rows", "check_elements",
+__all__ = ["DiscreteState", "from_mesh", "material_rows", "check_elements",
            "groups_csr", "Q4_GAUSS"]
 
 # Q4 2x2 Gauss points, point k next to node k (counter-clockwise corner order).
@@ -24,127 +26,40 @@ _G = 1.0 / math.sqrt(3.0)
 Q4_GAUSS = np.array([[-_G, -_G], [_G, -_G], [_G, _G], [-_G, _G]])
 
 
-@dataclass(frozen=True)
-class DiscreteMaterial:
-    """Material of discrete elements (SI: kPa, t/m3, degrees for angles).
+def material_rows(materials: Sequence[Material], element_size: float):
+    """The state's material tables from a sequence of ``Material``.
 
-    Elastic part: Young's modulus ``E`` [kPa], Poisson ratio ``nu``, ``density`` [t/m3].
-    Plasticity (Mohr-Coulomb, used when ``plastic`` is True): ``cohesion`` [kPa], friction
-    ``phi_deg`` and dilation ``psi_deg`` angles, ``tensile_strength`` [kPa] (tension cut-off).
-    Splitting of interfaces (section 4.5 of the thesis): ``interface_cohesion``,
-    ``interface_phi_deg``, ``interface_tensile_strength`` (defaults: inf, never splits).
-    Contact: ``contact_kn`` [kPa/m] (F_n = k_n * overlap area; None: 10 E / element size),
-    ``contact_kt`` [kPa/m] (tangential spring per unit overlap area; None: equal to k_n),
-    ``contact_phi_deg`` (None: phi_deg), ``contact_damping`` (normal damping ratio zeta).
+    Returns (material_table (n, 7) and elastic_only (n,) from ``kernel_table``, density (n,)
+    [t/m3], interface_table (n, 3) [bond cohesion kPa, tan phi, tensile strength kPa] and
+    contact_table (n, 4) [k_n kPa/m, k_t kPa/m, mu, zeta]); ``element_size`` [m] sets the
+    default contact stiffness k_n = 10 E / size. A bond left unset follows the material's own
+    strength when it is plastic and never breaks when it is elastic (``Bond``).
     """
-
-    E: float
-    nu: float
-    density: float
-    plastic: bool = False
-    cohesion: float = 0.0
-    phi_deg: float = 0.0
-    psi_deg: float = 0.0
-    tensile_strength: float = math.inf
-    interface_cohesion: float = math.inf
-    interface_phi_deg: float = 0.0
-    interface_tensile_strength: float = math.inf
-    contact_kn: float | None = None
-    contact_kt: float | None = None
-    contact_phi_deg: float | None = None
-    contact_damping: float = 0.0
-
-    def __post_init__(self) -> None:
-        def bad(name: str, why: str) -> None:
-            raise ValueError(f"DiscreteMaterial.{name} = {getattr(self, name)!r}: {why}")
-
-        for name in ("E", "density"):
-            v = getattr(self, name)
-            if not (math.isfinite(v) and v > 0.0):
-                bad(name, "must be a finite positive number (stiffness in kPa, density in t/m3)")
-        if not (-1.0 < self.nu < 0.5):
-            bad("nu", "Poisson ratio must lie in (-1, 0.5)")
-        for name in ("cohesion", "tensile_strength", "interface_cohesion",
-                     "interface_tensile_strength", "contact_damping"):
-            if not getattr(self, name) >= 0.0:
-                bad(name, "must be >= 0")
-        for name in ("phi_deg", "psi_deg", "interface_phi_deg"):
-            if not 0.0 <= getattr(self, name) < 90.0:
-                bad(name, "angle must be in [0, 90) degrees")
-        if self.psi_deg > self.phi_deg:
-            bad("psi_deg", "dilation angle must not exceed the friction angle")
-        for name in ("contact_kn", "contact_kt"):
-            v = getattr(self, name)
-            if v is not None and not (math.isfinite(v) and v > 0.0):
-                bad(name, "contact stiffness must be a finite positive number [kPa/m]")
-        if self.contact_phi_deg is not None and not 0.0 <= self.contact_phi_deg < 90.0:
-            bad("contact_phi_deg", "angle must be in [0, 90) degrees")
-
-    @property
-    def bulk_modulus(self) -> float:
-        """K = E / (3 (1 - 2 nu)) [kPa]."""
-        return self.E / (3.0 * (1.0 - 2.0 * self.nu))
-
-    @property
-    def shear_modulus(self) -> float:
-        """G = E / (2 (1 + nu)) [kPa]."""
-        return self.E / (2.0 * (1.0 + self.nu))
-
-
-def _as_discrete(m, i: int) -> DiscreteMaterial:
-    """A DiscreteMaterial from itself or from a ``hybrid.materials.Material`` (whose
-    interface strengths default to the material's own c, phi and tensile strength)."""
-    if isinstance(m, DiscreteMaterial):
-        return m
-    try:
-        from hybrid.materials import Material
-    except ImportError:  # pragma: no cover
-        Material = None
-    if Material is None or not isinstance(m, Material):
-        raise ValueError(f"materials[{i}] is {type(m).__name__}: expected DiscreteMaterial or "
-                         "hybrid.materials.Material")
-    if m.density <= 0.0:
-        raise ValueError(f"materials[{i}] ('{m.name}') has unit_weight {m.unit_weight}: the "
-                         "discrete engine needs mass, give unit_weight > 0 kN/m3")
-    ft = m.resolved_tensile_strength()
-    return DiscreteMaterial(
-        E=m.E, nu=m.nu, density=m.density, plastic=m.is_plastic, cohesion=m.cohesion,
-        phi_deg=m.phi, psi_deg=m.psi, tensile_strength=ft,
-        interface_cohesion=m.cohesion if m.interface_cohesion is None else m.interface_cohesion,
-        interface_phi_deg=m.phi if m.interface_phi is None else m.interface_phi,
-        interface_tensile_strength=(ft if m.interface_tensile_strength is None
-                                    else m.interface_tensile_strength),
-        contact_kn=m.contact_stiffness, contact_phi_deg=m.contact_phi,
-        contact_damping=m.contact_damping)
-
-
-def material_rows(materials, element_size: float):
-    """Material tables of the state layout from a sequence of DiscreteMaterial.
-
-    Entries may also be ``hybrid.materials.Material`` (converted with its own defaults).
-    Returns (material_table (n, 7), density (n,), elastic_only (n,), interface_table (n, 3),
-    contact_table (n, 4)); ``element_size`` [m] sets the default contact stiffness 10 E / size.
-    """
+    mt, el = kernel_table(materials)
     n = len(materials)
-    mt = np.zeros((n, 7))
     dens = np.zeros(n)
-    el = np.zeros(n, dtype=bool)
     it = np.zeros((n, 3))
     ct = np.zeros((n, 4))
     for i, m in enumerate(materials):
-        m = _as_discrete(m, i)
-        phi = math.radians(m.phi_deg)
-        ft = m.tensile_strength if math.isfinite(m.tensile_strength) else 1e30
-        mt[i] = [m.bulk_modulus, m.shear_modulus, m.cohesion, math.sin(phi), math.cos(phi),
-                 math.sin(math.radians(m.psi_deg)), ft]
+        if not m.density > 0.0:
+            raise ValueError(f"materials[{i}] ('{m.name}') has unit_weight {m.unit_weight}: the "
+                             "discrete engine needs mass, give unit_weight > 0 kN/m3 (or "
+                             "density > 0 t/m3)")
         dens[i] = m.density
-        el[i] = not m.plastic
-        it[i] = [m.interface_cohesion, math.tan(math.radians(m.interface_phi_deg)),
-                 m.interface_tensile_strength]
-        kn = m.contact_kn if m.contact_kn is not None else 10.0 * m.E / element_size
-        kt = m.contact_kt if m.contact_kt is not None else kn
-        phic = m.contact_phi_deg if m.contact_phi_deg is not None else m.phi_deg
-        ct[i] = [kn, kt, math.tan(math.radians(phic)), m.contact_damping]
+        bond, contact = m.bond, m.contact
+        if m.is_plastic:
+            own = (m.cohesion, m.phi, tension_cutoff(m.peak))
+        else:  # no strength: unbreakable unless given
+            own = (math.inf, m.phi, math.inf)
+        c = own[0] if bond.cohesion is None else bond.cohesion
+        phi = own[1] if bond.phi is None else bond.phi
+        ft = own[2] if bond.tensile_strength is None else bond.tensile_strength
+        it[i] = [c, math.tan(math.radians(phi)), ft]
+        kn = (contact.normal_stiffness if contact.normal_stiffness is not None
+              else 10.0 * m.E / element_size)
+        kt = contact.shear_stiffness if contact.shear_stiffness is not None else kn
+        phic = contact.phi if contact.phi is not None else m.phi
+        ct[i] = [kn, kt, math.tan(math.radians(phic)), contact.damping]
     return mt, dens, el, it, ct
 
 
@@ -387,7 +302,7 @@ def from_mesh(points, cells, cell_material, materials, *, gravity=(0.0, -GRAVITY
 
     points (n_points, 2) [m]; cells (n_elements, nen) point indices, nen 4 (Q4, counter-
     clockwise) or 3 (T3); cell_material (n_elements,) indices into ``materials`` (a sequence of
-    DiscreteMaterial). Every element gets its own nodes; all nodes at one mesh point form one
+    ``Material``). Every element gets its own nodes; all nodes at one mesh point form one
     tie group; every edge shared by two elements becomes an intact, splittable interface.
     """
     points = np.ascontiguousarray(np.asarray(points, dtype=float)[:, :2])
