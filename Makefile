@@ -1,6 +1,6 @@
 # hybrid: continuum -> discrete geomechanics.  Two commands for users:
 #   make demo   runs the main job (installs what is missing first)
-#   make test   lints and runs the default test set (installs what is missing first)
+#   make test   lints (ruff, mypy) and runs the default test set (installs what is missing first)
 # Everything goes through Debian's /usr/bin/python3 and the project venv .venv
 # (never the `python3` first on PATH, which lacks dolfinx).
 
@@ -15,7 +15,7 @@ export NUMBA_CACHE_DIR ?= $(CURDIR)/.cache/numba
 export OMP_WAIT_POLICY ?= passive
 export MPLBACKEND ?= Agg
 
-.PHONY: deps setup demo test lint verify test-slow bench clean
+.PHONY: deps setup demo test lint typecheck verify test-slow bench clean
 
 # --- set-up (idempotent) ------------------------------------------------------
 deps:
@@ -41,8 +41,11 @@ setup: deps $(VENV)/.installed
 demo: setup
 	$(PY) -m hybrid run cases/footing_failure.py --out results/footing_failure
 
-lint: setup
+lint: setup typecheck
 	$(PY) -m ruff check hybrid tests cases meshes
+
+typecheck: setup
+	$(PY) -m mypy
 
 test: lint
 	$(PY) -m pytest -q -m "not slow"

@@ -49,8 +49,11 @@ def _convert(field: dataclasses.Field, text: str) -> Any:
 
 
 def uses_defaults(parameters: Any, names: Sequence[str]) -> bool:
-    """True when the fields ``names`` of a case's ``parameters`` keep their defaults (the
-    published problem the case reproduces): its published references apply."""
+    """True when the fields ``names`` of a case's ``parameters`` keep their defaults.
+
+    The defaults are the published problem the case reproduces, so its published references
+    apply.
+    """
     defaults = {f.name: f.default for f in dataclasses.fields(parameters)}
     return all(getattr(parameters, n) == defaults[n] for n in names)
 
@@ -113,7 +116,8 @@ def execute(main: Callable[..., dict], parameters: type, args: argparse.Namespac
             name: str | None = None) -> int:
     """Run ``main`` with parsed options; report where the results are (rank 0).
 
-    Returns 0, or 3 when an analysis stage did not complete (its message on stderr)."""
+    Returns 0, or 3 when an analysis stage did not complete (its message on stderr).
+    """
     from mpi4py import MPI
 
     if args.list:

@@ -8,6 +8,7 @@ import os
 import shutil
 import sys
 from collections.abc import Sequence
+from types import ModuleType
 
 import hybrid
 
@@ -71,6 +72,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     run.add_argument("case", help="path of the case script")
     case_arguments(run)
     run.set_defaults(func=_cmd_run)
+    bench: ModuleType | None
     try:
         from hybrid import bench
     except ImportError:  # the discrete engine is optional until it lands

@@ -25,9 +25,12 @@ Window = tuple[float, float, float, float]
 
 
 class Column(NamedTuple):
-    """A vertical line at ``x`` from ``bottom`` to ``top`` [m] and a column of cells
-    (``cells``: mask of the owned cells) whose profiles :func:`plot_column_profiles` draws,
-    with grey lines at ``levels`` [m]; ``line`` and ``name`` name them in the labels."""
+    """A vertical line and a column of cells whose profiles :func:`plot_column_profiles` draws.
+
+    The line is at ``x`` from ``bottom`` to ``top`` [m]; ``cells``: mask of the owned cells of
+    the column; grey lines are drawn at ``levels`` [m]; ``line`` and ``name`` name them in the
+    labels.
+    """
 
     cells: np.ndarray
     x: float
@@ -61,8 +64,10 @@ def _save(fig: Any, path: str | Path) -> Path:
 
 def _cell_fields(out: Path, mesh: Any, fields: list[tuple], active: np.ndarray,
                  overlay: Callable[[Any], None]) -> list[Path]:
-    """plot_cell_field of each (file name, values, title, label, colour map); cells not
-    ``active`` left blank; "RdBu_r" maps are symmetric about zero."""
+    """Call plot_cell_field on each (file name, values, title, label, colour map).
+
+    Cells not ``active`` are left blank; "RdBu_r" maps are symmetric about zero.
+    """
     paths = []
     for name, values, title, label, cmap in fields:
         path = plot_cell_field(out / name, mesh, np.where(active, 1.0, np.nan) * values,
@@ -78,13 +83,16 @@ def construction_figures(out: str | Path, mesh: Any, state: Any, strain: np.ndar
                          column: Column | None = None,
                          prefix: str = "end_of_construction_",
                          elevation_label: str = "y [m]") -> list[Path]:
-    """PNGs of ``state`` ("``when``" in the titles) with the cells not ``active`` (not
-    placed) left blank: ``{prefix}sigma_yy|sigma_xx|sigma_xy|yielded|vertical_strain.png``
+    """PNGs of ``state`` ("``when``" in the titles) with the cells not ``active`` left blank.
+
+    The cells not ``active`` are those not placed yet. Writes
+    ``{prefix}sigma_yy|sigma_xx|sigma_xy|yielded|vertical_strain.png``
     (stress components, yielded zone, vertical strain since placement: ``strain``, cell means
     (n_owned_cells, 4), e.g. :meth:`~hybrid.continuum.staging.PlacementStrain.cell_mean`),
     ``{prefix}displacement_vectors.png`` and, with a ``column``,
     ``{prefix}{column.name}_profiles.png`` (:func:`plot_column_profiles`).
-    ``elevation_label``: the vertical axis's label (e.g. "elevation [m OD]")."""
+    ``elevation_label``: the vertical axis's label (e.g. "elevation [m OD]").
+    """
     out = Path(out)
     stress = state.cell_stress()
     fields = [(f"{prefix}{name}.png", stress[:, i], f"{name} [kPa], {when}",
@@ -95,7 +103,8 @@ def construction_figures(out: str | Path, mesh: Any, state: Any, strain: np.ndar
                 f"Yielded zone, {when}", "yielded (1) [-]", "Reds"),
                (f"{prefix}vertical_strain.png", strain[:, 1],
                 f"Vertical strain from placement, {when}", "eps_yy [-]", "viridis")]
-    paths = _cell_fields(out, mesh, fields, active, window_overlay(window))
+    paths: list[Path | None] = list(_cell_fields(out, mesh, fields, active,
+                                                 window_overlay(window)))
     paths.append(plot_displacement_vectors(
         out / f"{prefix}displacement_vectors.png", mesh, state, active=active, window=window,
         title=f"Displacement vectors (from placement), {when}",
@@ -111,11 +120,14 @@ def construction_figures(out: str | Path, mesh: Any, state: Any, strain: np.ndar
 def plot_displacement_vectors(path: str | Path, mesh: Any, state: Any, *, active: np.ndarray,
                               window: Window, title: str, longest: float = 6.0,
                               elevation_label: str = "y [m]") -> Path | None:
-    """Cell-mean displacement vectors of the ``active`` cells whose centre lies in ``window``
-    (x inside, y above its bottom), coloured by |u|; the longest drawn ``longest`` m long."""
+    """Cell-mean displacement vectors of the ``active`` cells whose centre lies in ``window``.
+
+    In the window: x inside, y above its bottom. Coloured by |u|; the longest is drawn
+    ``longest`` m long.
+    """
     polys, vectors = gather_cells(mesh, state.cell_displacement())
     _, placed = gather_cells(mesh, np.asarray(active, float))
-    if polys is None:
+    if polys is None or vectors is None or placed is None:  # all None together, off rank 0
         return None
     import matplotlib
 
@@ -143,14 +155,16 @@ def plot_displacement_vectors(path: str | Path, mesh: Any, state: Any, *, active
 def plot_column_profiles(path: str | Path, mesh: Any, state: Any, strain_yy: np.ndarray,
                          column: Column, *, title: str = "", samples: int = 80,
                          elevation_label: str = "y [m]") -> Path | None:
-    """Two profiles against elevation: the horizontal displacement up the column's line
-    (``samples`` points, up to its highest cell) and the vertical compression -eps_yy
-    (``strain_yy``, per owned cell) of its cells."""
+    """Two profiles of a column against elevation.
+
+    The horizontal displacement up the column's line (``samples`` points, up to its highest
+    cell) and the vertical compression -eps_yy (``strain_yy``, per owned cell) of its cells.
+    """
     polys, eps = gather_cells(mesh, strain_yy)
     _, flag = gather_cells(mesh, np.asarray(column.cells, float))
     ys = np.linspace(column.bottom, column.top, samples)
     u = state.displacement_at(np.column_stack([np.full_like(ys, column.x), ys]))
-    if polys is None:
+    if polys is None or eps is None or flag is None:  # all None together, off rank 0
         return None
     import matplotlib
 
@@ -176,10 +190,12 @@ def plot_column_profiles(path: str | Path, mesh: Any, state: Any, strain_yy: np.
 
 def safety_figures(out: str | Path, mesh: Any, safety: Any, *, active: np.ndarray,
                    window: Window, circle: Any = None, prefix: str = "fos_") -> list[Path]:
-    """``{prefix}plastic_strain.png`` at F and, when a reduction step converged,
-    ``{prefix}mechanism.png`` (|du| of the last step) of a
-    :class:`~hybrid.continuum.strength_reduction.SafetyResult`; cells not ``active`` left
-    blank; ``circle`` (a :class:`~hybrid.references.SlipCircle`) drawn dashed."""
+    """Figures of a :class:`~hybrid.continuum.strength_reduction.SafetyResult`.
+
+    ``{prefix}plastic_strain.png`` at F and, when a reduction step converged,
+    ``{prefix}mechanism.png`` (|du| of the last step); cells not ``active`` left blank;
+    ``circle`` (a :class:`~hybrid.references.SlipCircle`) drawn dashed.
+    """
     crop = window_overlay(window)
 
     def overlay(ax: Any) -> None:

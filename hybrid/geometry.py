@@ -57,10 +57,12 @@ class MeshData:
 
     @property
     def comm(self) -> MPI.Comm:
+        """The mesh's MPI communicator."""
         return self.mesh.comm
 
     @property
     def num_owned_cells(self) -> int:
+        """Number of cells owned by this rank (ghosts excluded)."""
         return self.mesh.topology.index_map(2).size_local
 
     def cell_tag(self, name: str) -> int:
@@ -101,6 +103,7 @@ class MeshData:
 
     @property
     def is_quad(self) -> bool:
+        """True for a quadrilateral mesh, False for triangles."""
         return self.cell_type == "quadrilateral"
 
 
@@ -252,8 +255,11 @@ def read_msh(path: str | Path, comm: MPI.Comm = MPI.COMM_WORLD) -> MeshData:
 
 
 def load_mesh_script(script: str | Path) -> ModuleType:
-    """Import a gmsh script in ``meshes/`` by path (its builder and whatever else it
-    defines, e.g. the dimensions of the section it meshes)."""
+    """Import a gmsh script in ``meshes/`` by path.
+
+    The module holds its builder and whatever else it defines, e.g. the dimensions of the
+    section it meshes.
+    """
     script = Path(script)
     if not script.is_file():
         raise GeometryError(f"gmsh script '{script}' not found")
@@ -276,7 +282,7 @@ def physical_group(gmsh: Any, dim: int, entities: list[int], name: str) -> int:
 
 
 def quad_options(gmsh: Any) -> None:
-    """gmsh options for all-quadrilateral meshes that work with gmsh 4.8 (see dolfinx notes)."""
+    """Gmsh options for all-quadrilateral meshes that work with gmsh 4.8 (see dolfinx notes)."""
     gmsh.option.setNumber("Mesh.Algorithm", 6)
     gmsh.option.setNumber("Mesh.RecombineAll", 1)
     gmsh.option.setNumber("Mesh.RecombinationAlgorithm", 1)

@@ -84,8 +84,11 @@ def _grow(cells: np.ndarray, inside: np.ndarray, layers: int) -> np.ndarray:
 
 def start_from(snapshot: CellSnapshot, *, region: Region | None = None,
                freeze_layers: int | None = None) -> Handover:
-    """The discrete start of a snapshot, with its splittable region (default: the yielded
-    cells) and, with ``freeze_layers``, the cells beyond that many layers of it frozen."""
+    """The discrete start of a snapshot, with its splittable region.
+
+    ``region`` defaults to the yielded cells; with ``freeze_layers``, the cells beyond that
+    many layers of it are frozen.
+    """
     splittable = region_cells(snapshot, region or Region())
     frozen = np.zeros(len(splittable), dtype=bool)
     if freeze_layers is not None:
@@ -103,7 +106,8 @@ def to_discrete(state: Any, *, region: Region | None = None,
     The discrete materials have the strengths in force in ``state`` (its
     ``strength_factor``: the reduced strengths of a strength-reduction state) unless
     ``strength_factor`` is given (1: the materials as defined); the report records them.
-    ``gravity``: whether the self-weight acts (default: when the state had it on)."""
+    ``gravity``: whether the self-weight acts (default: when the state had it on).
+    """
     from hybrid.continuum.snapshot import cell_snapshot
 
     snapshot = cell_snapshot(state, strength_factor=strength_factor, gravity=gravity)

@@ -36,6 +36,7 @@ class Check:
 
     @property
     def error(self) -> float | None:
+        """Relative error (absolute when the reference is 0); None without a reference."""
         if self.reference is None:
             return None
         scale = abs(self.reference) if self.reference != 0 else 1.0
@@ -43,11 +44,13 @@ class Check:
 
     @property
     def passed(self) -> bool | None:
+        """Whether the error is within ``bar``; None without a bar or a reference."""
         if self.bar is None or self.error is None:
             return None
         return bool(self.error <= self.bar)
 
     def as_dict(self) -> dict[str, Any]:
+        """The fields plus ``error`` and ``passed``, as a plain dict."""
         out = asdict(self)
         out.update(error=self.error, passed=self.passed)
         return out
@@ -55,9 +58,11 @@ class Check:
     @classmethod
     def published(cls, computed: float, reference: float, bar: float | None, unit: str,
                   source: str, *, applies: bool) -> Check:
-        """A comparison with a published value, made only when the run uses the publication's
-        parameters (``applies``); otherwise the figure is reported with "no reference for
-        these parameters"."""
+        """A comparison with a published value, made only when ``applies``.
+
+        ``applies``: the run uses the publication's parameters; otherwise the figure is
+        reported with "no reference for these parameters".
+        """
         if applies:
             return cls(computed, reference, bar, unit, source)
         return cls(computed, None, None, unit, f"no reference for these parameters ({source})")
@@ -176,7 +181,7 @@ def plot_cell_field(path: str | Path, mesh_data: Any, values: np.ndarray, *, tit
     ``overlay(ax)``, if given, draws extra items (e.g. reference lines) on the axes.
     """
     polys, vals = gather_cells(mesh_data, values, displacement, scale)
-    if polys is None:
+    if polys is None or vals is None:  # both None together, off rank 0
         return None
     import matplotlib
 

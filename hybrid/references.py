@@ -462,8 +462,11 @@ def _arc_interval(pts: np.ndarray, xc: float, yc: float, R: float) -> tuple[floa
 def _method_of_slices(xm: np.ndarray, b: np.ndarray, top: np.ndarray, xc: np.ndarray,
                       yc: np.ndarray, R: np.ndarray, soil: Soil, method: str,
                       column_points: int) -> np.ndarray:
-    """F of C circles from their slices: centres ``xm`` and widths ``b`` (C, n) [m], ground
-    level ``top`` (C, n) [m] above them; inf where the circle is not admissible."""
+    """F of C circles from their slices; inf where the circle is not admissible.
+
+    Slice centres ``xm`` and widths ``b`` (C, n) [m], ground level ``top`` (C, n) [m] above
+    them.
+    """
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
         return _slices(xm, b, top, xc, yc, R, soil, method, column_points)
 
@@ -608,9 +611,11 @@ def critical_circle(surface: np.ndarray, soil: Soil, *, floor: float | None = No
 
     def factors(P: np.ndarray, n: int = 40, column: int = 8,
                 vertices: bool = False) -> np.ndarray:
-        """F of the circles P (C, 3) with n equal slices between where they meet the
-        ground (plus, with ``vertices``, the surface's vertices between them, as
-        :func:`circle_factor`: a slice then never straddles a toe or a crest)."""
+        """F of the circles P (C, 3) with n equal slices between where they meet the ground.
+
+        With ``vertices``, the surface's vertices between them are slice boundaries too (as
+        :func:`circle_factor`: a slice then never straddles a toe or a crest).
+        """
         out = np.full(len(P), math.inf)
         with np.errstate(divide="ignore", invalid="ignore"):
             geometry = circles(P)

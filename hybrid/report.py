@@ -39,9 +39,10 @@ def plot_curve(path: str | Path, x: Sequence[float], y: Sequence[float], *, xlab
                reference_unit: str = "",
                more: Mapping[str, tuple[Sequence[float], Sequence[float]]] | None = None,
                xscale: str = "linear", origin: bool = True) -> Path:
-    """PNG of a curve y(x) with each reference drawn as a labelled horizontal line and
-    ``more`` curves {label: (x, y)} beside it. ``xscale``: "linear" or "log" (points with
-    x <= 0 are then left out); ``origin``: the axes include x = 0 and y = 0.
+    """PNG of a curve y(x) with each reference drawn as a labelled horizontal line.
+
+    ``more`` curves {label: (x, y)} are drawn beside it. ``xscale``: "linear" or "log"
+    (points with x <= 0 are then left out); ``origin``: the axes include x = 0 and y = 0.
 
     Writes ``path`` (PNG) and ``path.with_suffix('.json')``: {x, y, xlabel, ylabel, references}.
     """
@@ -50,18 +51,18 @@ def plot_curve(path: str | Path, x: Sequence[float], y: Sequence[float], *, xlab
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    x = np.asarray(x, dtype=float)
-    y = np.asarray(y, dtype=float)
-    if x.shape != y.shape or x.ndim != 1:
-        raise ValueError(f"x and y must be 1-D of the same length, got {x.shape} and {y.shape}")
+    xs = np.asarray(x, dtype=float)
+    ys = np.asarray(y, dtype=float)
+    if xs.shape != ys.shape or xs.ndim != 1:
+        raise ValueError(f"x and y must be 1-D of the same length, got {xs.shape} and {ys.shape}")
     if xscale not in ("linear", "log"):
         raise ValueError(f"xscale = {xscale!r}: choose 'linear' or 'log'")
     refs = {str(k): float(v) for k, v in (references or {}).items()}
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
     fig, ax = plt.subplots(figsize=(6.4, 4.4), dpi=100)
-    shown = x > 0 if xscale == "log" else np.ones(x.shape, bool)
-    ax.plot(x[shown], y[shown], "o-", ms=3, lw=1.5, color="C0", label=label)
+    shown = xs > 0 if xscale == "log" else np.ones(xs.shape, bool)
+    ax.plot(xs[shown], ys[shown], "o-", ms=3, lw=1.5, color="C0", label=label)
     extra = {str(k): (np.asarray(a, float), np.asarray(b, float))
              for k, (a, b) in (more or {}).items()}
     for j, (name, (xa, ya)) in enumerate(extra.items()):
@@ -78,16 +79,16 @@ def plot_curve(path: str | Path, x: Sequence[float], y: Sequence[float], *, xlab
     ax.set_xscale(xscale)
     if origin and xscale == "linear":
         ax.set_xlim(left=min([0.0, *(float(a.min())
-                                     for a in [x, *(e[0] for e in extra.values())] if a.size)]))
+                                     for a in [xs, *(e[0] for e in extra.values())] if a.size)]))
     if origin:
         ax.set_ylim(bottom=min([0.0, *(float(b.min())
-                                       for b in [y, *(e[1] for e in extra.values())] if b.size)]))
+                                       for b in [ys, *(e[1] for e in extra.values())] if b.size)]))
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="best")
     fig.tight_layout()
     fig.savefig(path)
     plt.close(fig)
-    data = {"x": x.tolist(), "y": y.tolist(), "xlabel": xlabel, "ylabel": ylabel,
+    data = {"x": xs.tolist(), "y": ys.tolist(), "xlabel": xlabel, "ylabel": ylabel,
             "title": title, "references": refs,
             "more": {k: {"x": a.tolist(), "y": b.tolist()} for k, (a, b) in extra.items()}}
     path.with_suffix(".json").write_text(json.dumps(data, indent=1) + "\n")
@@ -97,8 +98,11 @@ def plot_curve(path: str | Path, x: Sequence[float], y: Sequence[float], *, xlab
 def plot_profile(path: str | Path, depth: Sequence[float],
                  curves: Mapping[str, tuple[Sequence[float], str]], *, xlabel: str,
                  ylabel: str = "depth z [m]", title: str = "") -> Path:
-    """PNG of quantities against depth (depth downward): ``curves`` = {label: (values, style)}
-    with a matplotlib style such as "k-" for a closed form or "o" for computed points."""
+    """PNG of quantities against depth (depth downward).
+
+    ``curves`` = {label: (values, style)} with a matplotlib style such as "k-" for a closed
+    form or "o" for computed points.
+    """
     import matplotlib
 
     matplotlib.use("Agg")
@@ -123,8 +127,10 @@ def plot_profile(path: str | Path, depth: Sequence[float],
 
 
 def plot_energy(path: str | Path, history: Mapping[str, Any]) -> Path:
-    """PNG of a discrete run's energy ledger (``RunResult.history``: every term the engine
-    records) and the total dissipation against time [kJ/m]."""
+    """PNG of a discrete run's energy ledger and the total dissipation against time [kJ/m].
+
+    ``history``: ``RunResult.history``, every term the engine records.
+    """
     import matplotlib
 
     matplotlib.use("Agg")
@@ -359,14 +365,14 @@ def write_report(results: Sequence[Mapping[str, Any]],
     """
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    results = [dict(r) for r in results]
-    _collect_figures(results, out_dir)
+    entries: list[dict[str, Any]] = [dict(r) for r in results]
+    _collect_figures(entries, out_dir)
     root = Path(hybrid.__file__).resolve().parent.parent
-    counts = _counts(results)
+    counts = _counts(entries)
     meta = {"generated_utc": _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%d %H:%M:%S"),
             "hybrid": hybrid.__version__, "git_commit": _git_commit(root),
             "mode": "full" if full else "fast (reduced overrides)", "counts": counts}
-    payload = _finite({"meta": meta, "cases": results})
+    payload = _finite({"meta": meta, "cases": entries})
     text = json.dumps(payload, indent=1, default=_json_default, allow_nan=False) + "\n"
     (out_dir / "results.json").write_text(text)
     if json_path is not None:
@@ -384,10 +390,10 @@ def write_report(results: Sequence[Mapping[str, Any]],
              "Cases: " + ", ".join(f"{n} {s}" for s, n in counts.items() if n) + ".", "",
              "| id | problem | computed | reference | error | bar | pass |",
              "|---|---|---|---|---|---|---|"]
-    for row in _table_rows(results):
+    for row in _table_rows(entries):
         lines.append("| " + " | ".join(_md_escape(c) for c in row) + " |")
     lines.append("")
-    for r in results:
+    for r in entries:
         lines += _section(r)
     md = out_dir / "report.md"
     md.write_text("\n".join(lines).rstrip() + "\n")

@@ -1,5 +1,8 @@
-"""Import a Python script by its path: the case scripts in ``cases/`` and the gmsh scripts in
-``meshes/`` are files, not modules of a package."""
+"""Import a Python script by its path.
+
+The case scripts in ``cases/`` and the gmsh scripts in ``meshes/`` are files, not modules of
+a package.
+"""
 
 from __future__ import annotations
 
@@ -12,8 +15,10 @@ __all__ = ["import_script"]
 
 
 def import_script(path: str | Path, prefix: str) -> ModuleType:
-    """Execute the script at ``path`` as the module ``{prefix}_{stem}`` (registered in
-    ``sys.modules``, as dataclasses and pickling need) and return it."""
+    """Execute the script at ``path`` as the module ``{prefix}_{stem}`` and return it.
+
+    The module is registered in ``sys.modules``, as dataclasses and pickling need.
+    """
     path = Path(path)
     spec = importlib.util.spec_from_file_location(f"{prefix}_{path.stem}", path)
     if spec is None or spec.loader is None:

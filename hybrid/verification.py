@@ -83,6 +83,7 @@ class VerificationCase:
     keep: tuple[str, ...] = ("*.png",)
 
     def script_path(self, cases_dir: Path | None = None) -> Path:
+        """Path of the case script in ``cases_dir`` (default: the repository's ``cases/``)."""
         return Path(cases_dir or CASES_DIR) / self.case_script
 
 

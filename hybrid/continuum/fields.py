@@ -54,6 +54,7 @@ class Discretisation:
 
     @classmethod
     def create(cls, model: Model, degree: int = 2) -> Discretisation:
+        """Build the CG ``degree`` (1 or 2) displacement space and its quadrature on the mesh."""
         if degree not in (1, 2):
             raise ValueError(f"displacement degree must be 1 or 2, not {degree}")
         mesh = model.mesh
@@ -98,6 +99,7 @@ class MaterialFields:
 
     @classmethod
     def create(cls, model: Model) -> MaterialFields:
+        """Fill the DG0 fields from the model's per-cell material properties."""
         W = fem.FunctionSpace(model.mesh.mesh, ("DG", 0))
         out = []
         for attribute in ("lame_lambda", "shear_modulus", "unit_weight"):
@@ -106,7 +108,8 @@ class MaterialFields:
             out.append(f)
         ids = fem.Function(W, name="material")
         _set_cellwise(ids, model.material_ids().astype(float))
-        return cls(*out, ids)
+        lam, mu, unit_weight = out
+        return cls(lam, mu, unit_weight, ids)
 
 
 def _set_cellwise(f: Any, owned_values: np.ndarray) -> None:

@@ -298,7 +298,9 @@ class PlasticSolver:
             if norm > opts.divergence * residuals[0]:
                 return False, residuals
             self.A.zeroEntries()
-            fem_petsc.assemble_matrix(self.A, self._jacobian_form, bcs=bcs)
+            # the (Mat, form) overload is registered by singledispatch: mypy sees only the
+            # base signature (form, bcs, ...)
+            fem_petsc.assemble_matrix(self.A, self._jacobian_form, bcs=bcs)  # type: ignore[misc]
             self.A.assemble()
             self.ksp.solve(self.b, self.delta.vector)
             if self.ksp.getConvergedReason() < 0:
@@ -337,9 +339,10 @@ class PlasticSolver:
 
     def step(self, d_lambda: float = 0.0, d_gravity: float = 0.0, *,
              strength_factor: float | None = None) -> StepRecord | None:
-        """Apply one increment of load factor and/or gravity, or move the strength factor to
-        ``strength_factor``, from the converged state; None (state unchanged) if no
-        equilibrium was found.
+        """Apply one increment of load factor and/or gravity, or move the strength factor.
+
+        Starts from the converged state; ``strength_factor`` is the new strength factor.
+        Returns None (state unchanged) if no equilibrium was found.
 
         The first iterate is the previous converged increment of the same kind (load or
         strength) scaled to this one: near a collapse the mechanism repeats itself.
@@ -374,9 +377,11 @@ class PlasticSolver:
     def ramp(self, target: float, steps: int, *, gravity: bool = False,
              stop: Callable[[PlasticSolver], bool] | None = None,
              min_increment: float | None = None) -> Analysis:
-        """Raise the load factor (or the gravity factor) to ``target`` in increments of
-        (target - current) / ``steps`` (:class:`IncrementControl`: halved when Newton fails,
-        down to ``min_increment`` of it, regrown by ``growth`` after each converged one).
+        """Raise the load factor (or the gravity factor) to ``target`` in increments.
+
+        The increments are (target - current) / ``steps`` (:class:`IncrementControl`: halved
+        when Newton fails, down to ``min_increment`` of it, regrown by ``growth`` after each
+        converged one).
 
         Returns an :class:`Analysis`: the target reached (``completed``) or the last
         converged factor; ``stop(solver)`` True after a converged increment ends the ramp
@@ -421,7 +426,8 @@ class PlasticSolver:
         self.sspace.assign(self.stress_q, self.stress)
 
     def geostatic_stress(self, surface_level: float, k0: float | None = None) -> np.ndarray:
-        """K0 stress state under horizontal ground at y = ``surface_level`` [m]:
+        """K0 stress state under horizontal ground at y = ``surface_level`` [m].
+
         sigma_v = -gamma (surface_level - y), sigma_h = K0 sigma_v (K0 per material's
         nu / (1 - nu) when None). Returns (n_cells, nqp, 4); use :meth:`set_initial_stress`.
         """
@@ -467,9 +473,10 @@ class PlasticSolver:
         self.sspace.assign(self.stress_q, self.stress)
 
     def activate(self, groups: Sequence[str], steps: int = 1) -> Analysis:
-        """Place the named cell groups (in addition to the active ones) and bring the structure
-        to equilibrium under their weight, ramped in ``steps`` increments (staged construction,
-        thesis 6.3.1).
+        """Place the named cell groups and bring the structure to equilibrium under their weight.
+
+        The groups join the active ones; their weight is ramped in ``steps`` increments
+        (staged construction, thesis 6.3.1).
 
         A failing increment is cut in half, down to ``min_increment`` x the first (as in
         :meth:`ramp`). Returns whether the full weight was reached; if not, the new cells keep
@@ -512,8 +519,10 @@ class PlasticSolver:
         return Analysis(True, 1.0, control.cuts, stage)
 
     def set_strength_factor(self, factor: float) -> None:
-        """Divide c and tan(phi), tan(psi) of every plastic material by ``factor`` (the
-        stress state is kept: call :meth:`step` to find the equilibrium at it)."""
+        """Divide c and tan(phi), tan(psi) of every plastic material by ``factor``.
+
+        The stress state is kept: call :meth:`step` to find the equilibrium at it.
+        """
         if not (math.isfinite(factor) and factor > 0):
             raise ValueError(f"strength factor {factor!r} must be a finite number > 0")
         self.strength_factor = float(factor)
@@ -621,8 +630,9 @@ class Analysis:
 
     def require_limit(self, displacement: Sequence[float], force: Sequence[float], *,
                       jump: float = 10.0) -> Analysis:
-        """A displacement-controlled push (a rigid footing, a wall moved): complete, or
-        stopped on the limit load.
+        """A displacement-controlled push (a rigid footing, a wall moved).
+
+        The push is complete, or stopped on the limit load.
 
         An incomplete push counts as having found the limit when the structure's stiffness
         has fallen: d(force)/d(displacement) of the last step below 1/``jump`` of the first
@@ -641,8 +651,11 @@ class Analysis:
 
     def require_collapse(self, load: Sequence[float], displacement: Sequence[float], *,
                          jump: float = 10.0) -> Analysis:
-        """A load-controlled ramp stopped short of its target: a collapse only if the
-        displacement ran away (:func:`runaway_ratio` of the last step >= ``jump``)."""
+        """A load-controlled ramp stopped short of its target.
+
+        It counts as a collapse only if the displacement ran away (:func:`runaway_ratio` of
+        the last step >= ``jump``).
+        """
         if self.completed:
             return self
         ratio = runaway_ratio(load, displacement)
@@ -655,15 +668,19 @@ class Analysis:
 
 
 def largest_nodal_norm(values: np.ndarray, comm: Any) -> float:
-    """Largest |v| over the nodes of a 2-D vector field given by its dof values, all ranks
-    (collective)."""
+    """Largest |v| over the nodes of a 2-D vector field given by its dof values.
+
+    Over all ranks (collective).
+    """
     local = float(np.max(np.linalg.norm(np.reshape(values, (-1, 2)), axis=1), initial=0.0))
     return comm.allreduce(local, op=MPI.MAX)
 
 
 def plateau_rise(x: Sequence[float], y: Sequence[float], tail: float = 0.2) -> float:
-    """Rise of ``y`` over the last ``tail`` of the range of ``x``, relative to its end value
-    (0 on a plateau; ``y`` at the start of the tail is the first point inside it)."""
+    """Rise of ``y`` over the last ``tail`` of the range of ``x``, relative to its end value.
+
+    0 on a plateau; ``y`` at the start of the tail is the first point inside it.
+    """
     xa, ya = np.asarray(x, float), np.asarray(y, float)
     if len(xa) < 2 or ya[-1] == 0.0:
         return math.inf
@@ -672,9 +689,11 @@ def plateau_rise(x: Sequence[float], y: Sequence[float], tail: float = 0.2) -> f
 
 
 def runaway_ratio(factor: Sequence[float], displacement: Sequence[float]) -> float:
-    """d(displacement)/d(factor) of the last step over that of the first (1 with fewer than
-    three points; inf when the first step did not move and the last did; negative when the
-    factor fell in the last step): at a collapse the displacement runs away."""
+    """Ratio of d(displacement)/d(factor) in the last step to that in the first.
+
+    At a collapse the displacement runs away. 1 with fewer than three points; inf when the
+    first step did not move and the last did; negative when the factor fell in the last step.
+    """
     f, u = np.asarray(factor, float), np.asarray(displacement, float)
     if len(f) < 3:
         return 1.0

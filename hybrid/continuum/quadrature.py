@@ -38,6 +38,7 @@ class QuadratureSpace:
         self._dofs = dofs[: self.num_cells].ravel()
 
     def function(self, name: str) -> Any:
+        """A new, zero quadrature function of this space called ``name``."""
         return fem.Function(self.space, name=name)
 
     def assign(self, f: Any, values: np.ndarray) -> None:

@@ -23,12 +23,14 @@ __all__ = ["cell_snapshot"]
 
 def cell_snapshot(state: Any, *, strength_factor: float | None = None,
                   gravity: bool | None = None) -> CellSnapshot | None:
-    """The snapshot of ``state`` (a :class:`~hybrid.continuum.ContinuumState`) on rank 0;
+    """The snapshot of ``state`` (a :class:`~hybrid.continuum.ContinuumState`) on rank 0.
+
     None on the other ranks.
 
     ``strength_factor``: the strengths the snapshot's materials carry (default: those in
     force in ``state``, e.g. the reduced ones of a strength-reduction state). ``gravity``:
-    whether the self-weight acts (default: when the state had it switched on)."""
+    whether the self-weight acts (default: when the state had it switched on).
+    """
     data = _gather(state)
     if data is None:
         return None

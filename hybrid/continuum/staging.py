@@ -42,17 +42,17 @@ def split_into_lifts(mesh: MeshData, groups: Sequence[str], tops: Sequence[float
     """
     from dolfinx.mesh import compute_midpoints, meshtags
 
-    tops = np.asarray(tops, dtype=float)
-    if not 0 < len(tops) < _STRIDE or np.any(np.diff(tops) <= 0.0):
-        raise ValueError(f"lift tops {tops.tolist()}: 1 to {_STRIDE - 1} rising elevations")
+    levels = np.asarray(tops, dtype=float)
+    if not 0 < len(levels) < _STRIDE or np.any(np.diff(levels) <= 0.0):
+        raise ValueError(f"lift tops {levels.tolist()}: 1 to {_STRIDE - 1} rising elevations")
     msh, tags = mesh.mesh, mesh.cell_tags
     mid = compute_midpoints(msh, 2, tags.indices)
-    lift = (np.minimum(np.searchsorted(tops, mid[:, 1], side="right"), len(tops) - 1)
+    lift = (np.minimum(np.searchsorted(levels, mid[:, 1], side="right"), len(levels) - 1)
             + 1).astype(np.int32)
     names = {tag: name for name, tag in mesh.cell_groups.items()}
     split = [mesh.cell_tag(g) for g in groups]
     kept = set(names) - set(split)
-    if any(_STRIDE * t + k in kept for t in split for k in range(1, len(tops) + 1)):
+    if any(_STRIDE * t + k in kept for t in split for k in range(1, len(levels) + 1)):
         raise GeometryError(f"cell tags {sorted(kept)} clash with the tags of the lifts")
     values = np.where(np.isin(tags.values, split), _STRIDE * tags.values + lift,
                       tags.values).astype(np.int32)
@@ -69,9 +69,11 @@ def lift_groups(mesh: MeshData, lift: int) -> list[str]:
 
 
 class PlacementStrain:
-    """Strain counted from placement: the sum over stages of eps(du) at the quadrature points
-    of the cells active in each stage, ``total`` (n_owned_cells, nqp, 4) [-] (Voigt, as the
-    stress)."""
+    """Strain counted from placement.
+
+    ``total`` (n_owned_cells, nqp, 4) [-] (Voigt, as the stress) is the sum over stages of
+    eps(du) at the quadrature points of the cells active in each stage.
+    """
 
     def __init__(self, solver: PlasticSolver) -> None:
         self.solver = solver
@@ -122,8 +124,10 @@ class Construction:
 def build_in_lifts(solver: PlasticSolver, mesh: MeshData, tops: Sequence[float],
                    base_level: float, *, steps: int = 1, safety: StrengthSearch | None = None,
                    safety_every_lift: bool = True, unit: str = "m") -> Construction:
-    """Place the lifts of a :func:`split_into_lifts` ``mesh`` one by one (``activate``, the
-    weight in ``steps`` increments) up to the last or to the first that collapses.
+    """Place the lifts of a :func:`split_into_lifts` ``mesh`` one by one.
+
+    Each lift is placed with ``activate`` (its weight in ``steps`` increments), up to the last
+    or to the first that collapses.
 
     ``safety``: after every complete lift (or the last only, ``safety_every_lift=False``) a
     strength-reduction factor of safety with this search, from that lift's state, which is

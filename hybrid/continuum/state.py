@@ -48,22 +48,28 @@ class ContinuumState:
     strength_factor: float = 1.0
 
     def materials_at(self, strength_factor: float | None = None) -> list[Any]:
-        """The model's materials (in ``material_names`` order) with every strength divided by
-        ``strength_factor`` (default: the factor in force in this state)."""
+        """The model's materials (in ``material_names`` order) with reduced strengths.
+
+        Every strength is divided by ``strength_factor`` (default: the factor in force in
+        this state).
+        """
         factor = self.strength_factor if strength_factor is None else strength_factor
         return [m.weakened(factor) if m.is_plastic and factor != 1.0 else m
                 for m in (self.model.materials[k] for k in self.model.material_names)]
 
     @property
     def mesh(self) -> Any:
+        """The dolfinx mesh."""
         return self.model.mesh.mesh
 
     @property
     def comm(self) -> Any:
+        """The mesh's MPI communicator."""
         return self.model.mesh.comm
 
     @property
     def velocity(self) -> np.ndarray:
+        """Nodal velocity dof values: zero, the continuum analysis is quasi-static."""
         return np.zeros_like(self.u.x.array)
 
     def cell_stress(self) -> np.ndarray:
@@ -92,16 +98,20 @@ class ContinuumState:
                               | (self.cell_plastic_strain() > threshold))
 
     def cell_mean(self, values: np.ndarray) -> np.ndarray:
-        """Area-weighted cell means (n_owned_cells, k) of quadrature-point values
-        (n_owned_cells, nqp, k)."""
+        """Area-weighted cell means (n_owned_cells, k) of quadrature-point values.
+
+        ``values``: (n_owned_cells, nqp, k).
+        """
         jac = evaluate_at_points(self.disc, abs(ufl.JacobianDeterminant(self.mesh)))[..., 0]
         w = jac * self.disc.weights[None, :]
         return np.einsum("cq,cqk->ck", w, values) / w.sum(axis=1)[:, None]
 
     def extreme_displacement(self, component: int, *, largest: bool = False,
                              cells: np.ndarray | None = None) -> float:
-        """Smallest (or ``largest``) cell-mean displacement component (0: x, 1: y) [m] over
-        ``cells`` (owned cell indices; None: all), all MPI ranks (collective)."""
+        """Smallest (or ``largest``) cell-mean displacement component (0: x, 1: y) [m].
+
+        Over ``cells`` (owned cell indices; None: all), all MPI ranks (collective).
+        """
         u = self.cell_displacement()[:, component]
         if cells is not None:
             u = u[cells]
@@ -110,8 +120,10 @@ class ContinuumState:
         return self.comm.allreduce(float(np.min(u, initial=np.inf)), op=MPI.MIN)
 
     def yielded_fraction(self, cells: np.ndarray) -> float:
-        """Fraction of ``cells`` (owned cell indices) among :meth:`yielded_cells`, all MPI
-        ranks (collective); 0 when there are none."""
+        """Fraction of ``cells`` (owned cell indices) among :meth:`yielded_cells`.
+
+        Over all MPI ranks (collective); 0 when there are none.
+        """
         hit = int(np.isin(self.yielded_cells(), cells).sum())
         return self.comm.allreduce(hit) / max(self.comm.allreduce(len(cells)), 1)
 

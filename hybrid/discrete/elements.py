@@ -78,13 +78,15 @@ def _rotate(sxx, syy, sxy, c, s):
 
 @numba.njit(cache=True, inline="always")
 def _mc_update(txx, tyy, tzz, txy, K, G, cohesion, sin_phi, cos_phi, sin_psi, tensile):
-    """Mohr-Coulomb correction of the elastic trial stress (tension positive) with the shared
-    closed-form principal return ``return_principal``: the in-plane principal pair from
-    p +- sqrt(h^2 + txy^2), sorted with sigma_zz, returned, and rotated back with the trial
-    eigenvectors (cos 2theta = h / rad, sin 2theta = txy / rad: no trigonometry). Scalars only,
-    so that it parallelises without reference counting. Returns (sxx, syy, szz, sxy,
-    d_eps_p_eq, yielded) with d_eps_p_eq = sqrt(2/3 e_p:e_p), e_p = C:(sigma_tr - sigma), as
-    ``mohr_coulomb_point``."""
+    """Mohr-Coulomb correction of the elastic trial stress (tension positive).
+
+    Uses the shared closed-form principal return ``return_principal``: the in-plane
+    principal pair from p +- sqrt(h^2 + txy^2), sorted with sigma_zz, returned, and rotated
+    back with the trial eigenvectors (cos 2theta = h / rad, sin 2theta = txy / rad: no
+    trigonometry). Scalars only, so that it parallelises without reference counting. Returns
+    (sxx, syy, szz, sxy, d_eps_p_eq, yielded) with d_eps_p_eq = sqrt(2/3 e_p:e_p),
+    e_p = C:(sigma_tr - sigma), as ``mohr_coulomb_point``.
+    """
     p = 0.5 * (txx + tyy)
     h = 0.5 * (txx - tyy)
     rad = math.sqrt(h * h + txy * txy)
@@ -131,7 +133,8 @@ def _q4_kernel(x, v, dt, element_nodes, element_material, material_table, elasti
                stress, plastic_strain, yielded, bbar, plastic_cap, force):
     """Q4 stress update + internal force (module docstring); writes force (n_nodes, 2).
 
-    bbar False: plain 2x2 integration of the volumetric part too (locks; for comparison)."""
+    bbar False: plain 2x2 integration of the volumetric part too (locks; for comparison).
+    """
     ne = element_nodes.shape[0]
     g = 1.0 / math.sqrt(3.0)
     for e in numba.prange(ne):
@@ -352,8 +355,10 @@ def _t3_kernel(x, v, dt, element_nodes, element_material, material_table, elasti
 
 @numba.njit(cache=True, parallel=True)
 def _strain_energy_kernel(x, element_nodes, element_material, material_table, stress, out):
-    """Elastic energy per element: sum_gp A/ngp [I1^2/(18K) + s:s/(4G)] (3D deviator s,
-    plane strain with sigma_zz) [kJ/m]; writes out (n_elements,)."""
+    """Elastic energy per element [kJ/m], written into ``out`` (n_elements,).
+
+    sum_gp A/ngp [I1^2/(18K) + s:s/(4G)] (3D deviator s, plane strain with sigma_zz).
+    """
     ne = element_nodes.shape[0]
     nen = element_nodes.shape[1]
     ngp = stress.shape[1]
@@ -410,6 +415,7 @@ def internal_forces(state: DiscreteState, dt: float = 0.0, *, bbar: bool = True)
     element_forces(state.x, state.v, float(dt), state.element_nodes, state.element_material,
                    state.material_table, state.elastic_only, state.stress, state.plastic_strain,
                    state.yielded, state.internal_force, bbar)
+    assert state.internal_force is not None  # set in DiscreteState.__post_init__
     return state.internal_force
 
 

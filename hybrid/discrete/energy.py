@@ -27,13 +27,13 @@ def mechanical_energy(h: dict) -> tuple[np.ndarray, np.ndarray]:
 
 
 def energy_excess(h: dict) -> float:
-    """max over the run of (E - supply) / max |supply| (0 when the energy stays bounded)."""
+    """Maximum over the run of (E - supply) / max |supply| (0 when the energy stays bounded)."""
     e, supply = mechanical_energy(h)
     return max(float(np.max(e - supply)) / float(np.max(np.abs(supply))), 0.0)
 
 
 def energy_peak_ratio(h: dict) -> float:
-    """max over the run of E / supply: how close the energy came to its sources (< 1)."""
+    """Maximum over the run of E / supply: how close the energy came to its sources (< 1)."""
     e, supply = mechanical_energy(h)
     ok = np.abs(supply) > 1e-12 * float(np.max(np.abs(supply)))
     return float(np.max(e[ok] / supply[ok])) if ok.any() else 0.0

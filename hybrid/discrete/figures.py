@@ -17,8 +17,10 @@ __all__ = ["plot_configuration", "failed_segments", "Snapshots"]
 
 
 def failed_segments(state: DiscreteState, *, reference: bool = False) -> np.ndarray:
-    """(n_failed, 2, 2) end points [m] of the failed interfaces, on element A's side, in the
-    current (or reference) configuration."""
+    """End points [m] of the failed interfaces (n_failed, 2, 2), on element A's side.
+
+    In the current configuration, or the reference one with ``reference``.
+    """
     failed = np.flatnonzero(~state.interface_intact)
     xs = state.x_ref if reference else state.x
     return xs[state.interface_nodes[failed][:, :2]]
@@ -28,10 +30,13 @@ def plot_configuration(path: str | Path, state: DiscreteState, *, title: str = "
                        field: str = "plastic_strain", window: tuple | None = None,
                        reference: bool = False, dpi: int = 100,
                        lines: dict[str, np.ndarray] | None = None) -> Path:
-    """PNG of the elements (deformed, or ``reference`` shape) coloured by ``field``
-    ("plastic_strain": Gauss-point mean [-], "sigma_yy": mean vertical stress [kPa]) with the
-    failed interfaces drawn in red. ``window`` = (xmin, xmax, ymin, ymax) [m] crops the view;
-    ``lines`` = {label: segments (n, 2, 2) [m]} are drawn on top (e.g. a fitted slip line)."""
+    """PNG of the elements (deformed, or ``reference`` shape) coloured by ``field``.
+
+    ``field``: "plastic_strain" (Gauss-point mean [-]) or "sigma_yy" (mean vertical stress
+    [kPa]); the failed interfaces are drawn in red. ``window`` = (xmin, xmax, ymin, ymax) [m]
+    crops the view; ``lines`` = {label: segments (n, 2, 2) [m]} are drawn on top (e.g. a
+    fitted slip line).
+    """
     import matplotlib
 
     matplotlib.use("Agg")
@@ -76,8 +81,10 @@ def plot_configuration(path: str | Path, state: DiscreteState, *, title: str = "
 
 
 class Snapshots:
-    """``on_check`` callback of :func:`hybrid.discrete.run.run`: a :func:`plot_configuration`
-    PNG ``{prefix}{t:g}.png`` in ``out`` when the time first reaches each of ``times`` [s].
+    """``on_check`` callback of :func:`hybrid.discrete.run.run` that plots configurations.
+
+    Writes a :func:`plot_configuration` PNG ``{prefix}{t:g}.png`` in ``out`` when the time
+    first reaches each of ``times`` [s].
 
     ``title`` is formatted with the state's ``time``; ``paths`` lists the files written; the
     other keywords go to :func:`plot_configuration`. Never stops the run.
@@ -90,6 +97,7 @@ class Snapshots:
         self.paths: list[Path] = []
 
     def __call__(self, state: DiscreteState) -> bool:
+        """Plot the times reached by ``state``; always False (the run goes on)."""
         while self.times and state.time >= self.times[0]:
             self.paths.append(plot_configuration(
                 self.out / f"{self.prefix}{self.times[0]:g}.png", state,

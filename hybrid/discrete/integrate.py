@@ -111,10 +111,13 @@ def _group_update(group_ptr, group_nodes, group_mass, internal_force, contact_fo
 @numba.njit(cache=True)
 def _critical_dt(x, element_nodes, element_material, material_table, density, contact_table,
                  mass, with_contact, fixed):
-    """min over elements of L_min / c_p, L_min = A / longest edge (Q4), 2A / longest edge
-    (T3), c_p = sqrt((K + 4G/3) / rho); with contact also sqrt(m_e / (k_n L_max)). Elements
-    whose nodes are all held (frozen) do not move and are skipped (a pair's k_n is the smaller
-    of the two, so the moving element's own contact bound covers its contacts with them)."""
+    """Critical time step: the minimum over elements of L_min / c_p.
+
+    L_min = A / longest edge (Q4), 2A / longest edge (T3), c_p = sqrt((K + 4G/3) / rho);
+    with contact also sqrt(m_e / (k_n L_max)). Elements whose nodes are all held (frozen) do
+    not move and are skipped (a pair's k_n is the smaller of the two, so the moving element's
+    own contact bound covers its contacts with them).
+    """
     ne = element_nodes.shape[0]
     nen = element_nodes.shape[1]
     best = np.inf
@@ -156,6 +159,7 @@ def stable_time_step(state: DiscreteState, *, contact: bool | None = None) -> fl
     is applied here.
     """
     if contact is None:
+        assert state.contact_pairs is not None  # set in DiscreteState.__post_init__
         contact = state.contact_pairs.shape[0] > 0
     args = (state.x, state.element_nodes, state.element_material, state.material_table,
             state.density, state.contact_table, state.mass, bool(contact))
@@ -177,8 +181,10 @@ def check_dt(state: DiscreteState, dt: float, *, contact: bool | None = None) ->
 
 
 def prime(state: DiscreteState) -> None:
-    """Compute the internal force on the current configuration (no stress increment) and
-    the tie groups' masses."""
+    """Compute the internal force and the tie groups' masses on the current configuration.
+
+    No stress increment: the stresses stay as they are.
+    """
     state.refresh_groups()
     zero = np.zeros_like(state.v)
     element_forces(state.x, zero, 0.0, state.element_nodes, state.element_material,
@@ -191,8 +197,9 @@ def prime(state: DiscreteState) -> None:
 def step(state: DiscreteState, dt: float, *, alpha: float = 0.0, local_damping: float = 0.0,
          contact_force: np.ndarray | None = None, bbar: bool = True,
          external: bool = True, plastic_cap: float = math.inf) -> None:
-    """Advance the state by one explicit step of size dt [s] (hot path: only scalar checks;
-    ``run`` checks dt against the stable step once).
+    """Advance the state by one explicit step of size dt [s].
+
+    Hot path: only scalar checks; ``run`` checks dt against the stable step once.
 
     ``contact_force`` (n_nodes, 2), if given, holds the contact forces at the current
     configuration (from ``hybrid.discrete.contact.contact_forces``). ``external=False`` skips

@@ -16,8 +16,10 @@ __all__ = ["interface_slip", "slip_surface", "slip_trace", "slipped_interfaces"]
 
 
 def interface_slip(state: DiscreteState) -> np.ndarray:
-    """(n_interfaces,) relative movement [m] of the two sides of every interface: the mean
-    over its two node pairs of their distance."""
+    """Relative movement [m] of the two sides of every interface (n_interfaces,).
+
+    The mean over the interface's two node pairs of their distance.
+    """
     n = state.interface_nodes
     return 0.5 * (np.linalg.norm(state.x[n[:, 0]] - state.x[n[:, 2]], axis=1)
                   + np.linalg.norm(state.x[n[:, 1]] - state.x[n[:, 3]], axis=1))
@@ -30,8 +32,11 @@ def slip_surface(state: DiscreteState, min_slip: float) -> np.ndarray:
 
 def slip_trace(state: DiscreteState, on_surface: np.ndarray,
                width: float = 5.0) -> list[list[float]]:
-    """The slip surface as (x, y) points [m] in the start geometry: in each ``width`` strip
-    of x, the midpoint of the deepest interface of ``on_surface`` (a mask of interfaces)."""
+    """The slip surface as (x, y) points [m] in the start geometry.
+
+    In each ``width`` strip of x, the midpoint of the deepest interface of ``on_surface`` (a
+    mask of interfaces).
+    """
     mid = state.x_ref[state.interface_nodes[on_surface][:, :2]].mean(axis=1)
     trace = []
     for b in np.unique(np.floor(mid[:, 0] / width)):
@@ -42,9 +47,12 @@ def slip_trace(state: DiscreteState, on_surface: np.ndarray,
 
 def slipped_interfaces(state: DiscreteState, thresholds: Sequence[float],
                        element_sets: Mapping[str, np.ndarray]) -> dict[str, dict[str, int]]:
-    """For each slip threshold t [m] (key f"{t:g}"): the failed interfaces that slipped at
-    least t ("interfaces") and, per named element set (an (n_elements,) mask), how many of
-    them have an element of the set on either side."""
+    """Count the failed interfaces that slipped at least each threshold t [m].
+
+    For each t (key f"{t:g}"): the failed interfaces that slipped at least t ("interfaces")
+    and, per named element set (an (n_elements,) mask), how many of them have an element of
+    the set on either side.
+    """
     slip = interface_slip(state)
     out = {}
     for t in thresholds:

@@ -60,8 +60,11 @@ class Handover:
 
 def start_from_snapshot(snapshot: CellSnapshot, *, splittable: np.ndarray,
                         frozen: np.ndarray) -> Handover:
-    """One discrete element per snapshot cell; interfaces between two ``splittable`` cells
-    may split; the nodes of ``frozen`` cells are held (a rigid contact body)."""
+    """The discrete start of a snapshot: one discrete element per snapshot cell.
+
+    Interfaces between two ``splittable`` cells may split; the nodes of ``frozen`` cells are
+    held (a rigid contact body).
+    """
     s = snapshot
     splittable = np.asarray(splittable, dtype=bool)
     frozen = np.asarray(frozen, dtype=bool)
@@ -136,8 +139,10 @@ def _boundaries(s: CellSnapshot, disc: DiscreteState) -> tuple[dict[str, np.ndar
 
 def _edge_force(load: tuple[float, float, float], xa: np.ndarray, xb: np.ndarray,
                 inside: np.ndarray) -> np.ndarray:
-    """Resultant [kN/m] of a surface load (pressure, tx, ty) on the edge a-b (outward normal
-    away from ``inside``)."""
+    """Resultant [kN/m] of a surface load (pressure, tx, ty) on the edge a-b.
+
+    The edge's outward normal points away from ``inside``.
+    """
     pressure, tx, ty = load
     t = xb - xa
     length = float(np.hypot(*t))
@@ -158,6 +163,7 @@ def _carry_points(values: np.ndarray, n_discrete: int, exact: bool,
     Otherwise the cell mean goes to every discrete point.
     """
     if exact:
+        assert match is not None  # an exact carry always comes with its point map
         return np.take_along_axis(values, match.reshape(match.shape + (1,) * (values.ndim - 2)),
                                   axis=1).copy()
     mean = values.mean(axis=1, keepdims=True)
@@ -165,8 +171,10 @@ def _carry_points(values: np.ndarray, n_discrete: int, exact: bool,
 
 
 def _match_points(disc: DiscreteState, x_nodes: np.ndarray, qp: np.ndarray) -> np.ndarray:
-    """For each element and discrete Gauss point (on the node positions ``x_nodes``), the
-    nearest continuum quadrature point."""
+    """The nearest continuum quadrature point to each discrete Gauss point of each element.
+
+    The discrete Gauss points are placed on the node positions ``x_nodes``.
+    """
     xe = x_nodes[disc.element_nodes]  # (n, nen, 2)
     if disc.nen == 4:
         xi, eta = Q4_GAUSS[:, 0], Q4_GAUSS[:, 1]

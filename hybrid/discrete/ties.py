@@ -114,8 +114,11 @@ def _failure_kernel(x, element_nodes, element_material, stress, interface_elemen
 
 def check_interfaces(state: DiscreteState, plastic_strain_limit: float = math.inf
                      ) -> np.ndarray:
-    """Failure mode per interface (n_if,) int8: 0 holds, 1 tension, 2 shear, 3 plastic strain
-    above ``plastic_strain_limit`` (see module)."""
+    """Failure mode per interface (n_if,) int8.
+
+    0 holds, 1 tension, 2 shear, 3 plastic strain above ``plastic_strain_limit`` (see
+    module).
+    """
     out = np.zeros(state.interface_elements.shape[0], dtype=np.int8)
     if out.size:
         _failure_kernel(state.x, state.element_nodes, state.element_material, state.stress,
@@ -127,8 +130,10 @@ def check_interfaces(state: DiscreteState, plastic_strain_limit: float = math.in
 
 
 def split_interfaces(state: DiscreteState, failed) -> int:
-    """Mark the interfaces ``failed`` (indices or bool mask) as broken and re-split the tie
-    groups of their vertices into connected components over the intact interfaces.
+    """Mark the interfaces ``failed`` (indices or bool mask) as broken and re-split groups.
+
+    The tie groups of their vertices are split into connected components over the intact
+    interfaces.
 
     Returns the number of interfaces newly broken. Group ids are renumbered compactly in
     order of first appearance (deterministic); the CSR arrays are rebuilt.
@@ -179,6 +184,7 @@ def split_interfaces(state: DiscreteState, failed) -> int:
     state.node_group = node_group
     state.group_ptr, state.group_nodes = groups_csr(node_group, next_id)
     # masses of the new groups; the energy accumulators are folded into the ledger
+    assert state.ledger is not None and state.group_energy is not None  # set in __post_init__
     state.ledger[2:6] += state.group_energy.sum(axis=0)
     state.group_energy = np.zeros((next_id, 4))
     state.refresh_groups()
@@ -186,8 +192,11 @@ def split_interfaces(state: DiscreteState, failed) -> int:
 
 
 def limit_splitting(state: DiscreteState, elements) -> int:
-    """Allow splitting only on interfaces touching the given elements (indices or a bool mask
-    over elements, e.g. the handover's yielded region); returns how many stay splittable."""
+    """Allow splitting only on interfaces touching the given elements.
+
+    ``elements``: indices or a bool mask over elements, e.g. the handover's yielded region.
+    Returns how many interfaces stay splittable.
+    """
     elements = np.asarray(elements)
     mask = np.zeros(state.n_elements, dtype=bool)
     if elements.dtype == bool:

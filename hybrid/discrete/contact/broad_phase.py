@@ -1,5 +1,6 @@
-"""Broad phase: candidate contact pairs from element boxes, and the tangential history
-carried from one pair list to the next.
+"""Broad phase: candidate contact pairs from element boxes, and their tangential history.
+
+The history is carried from one pair list to the next.
 
 Thesis (G. S. Bala 2008) section 4.8.2.  Elements are count-sorted into a uniform grid by
 the centre of their box (grown by ``margin``), with the cell size at least the largest
@@ -36,8 +37,10 @@ def _element_boxes(x, element_nodes, margin, boxes):
 
 @njit(cache=True)
 def _is_candidate(i, j, boxes, element_nodes, node_group, max_shared):
-    """Boxes of i and j overlap (inclusive) and the elements share at most ``max_shared``
-    tie groups."""
+    """True when the boxes of i and j overlap (inclusive) and the elements share few ties.
+
+    The elements may share at most ``max_shared`` tie groups.
+    """
     if boxes[i, 0] > boxes[j, 2] or boxes[j, 0] > boxes[i, 2]:
         return False
     if boxes[i, 1] > boxes[j, 3] or boxes[j, 1] > boxes[i, 3]:
@@ -232,9 +235,10 @@ def find_contact_pairs(
 
 @njit(cache=True)
 def _merge_history(old_pairs, old_shear, new_pairs, new_shear):
-    """Copy the rows of ``old_shear`` whose pair is in ``new_pairs`` by merging the two pair
-    lists; returns False (and copies nothing) unless both are strictly sorted
-    lexicographically."""
+    """Copy the rows of ``old_shear`` whose pair is in ``new_pairs``, merging the pair lists.
+
+    Returns False (and copies nothing) unless both are strictly sorted lexicographically.
+    """
     for pairs in (old_pairs, new_pairs):
         for p in range(1, pairs.shape[0]):
             if pairs[p, 0] < pairs[p - 1, 0] or (
@@ -259,8 +263,10 @@ def _merge_history(old_pairs, old_shear, new_pairs, new_shear):
 def carry_contact_history(
     old_pairs: np.ndarray, old_shear: np.ndarray, new_pairs: np.ndarray
 ) -> np.ndarray:
-    """Tangential history for ``new_pairs``: a pair present in ``old_pairs`` keeps its
-    ``old_shear`` row, a new pair starts at zero.  Returns (n_new, 2) float64.
+    """Tangential history for ``new_pairs``.
+
+    A pair present in ``old_pairs`` keeps its ``old_shear`` row, a new pair starts at zero.
+    Returns (n_new, 2) float64.
     """
     old_pairs = np.asarray(old_pairs, dtype=np.int64).reshape(-1, 2)
     new_pairs = np.asarray(new_pairs, dtype=np.int64).reshape(-1, 2)

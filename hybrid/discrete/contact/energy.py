@@ -1,5 +1,6 @@
-"""Contact energy for the run's ledger: the elastic energy stored in the contacts and the
-work of a force term over one step.
+"""Contact energy for the run's ledger.
+
+The elastic energy stored in the contacts and the work of a force term over one step.
 
 The stored elastic energy is ``k_n A^2 / (2 L_c)`` (exact for a flat penetration at constant
 ``L_c``; 3/4 of the true integral for a corner wedge) plus ``|F_t|^2 / (2 k_t L_c)``.  The
@@ -36,12 +37,15 @@ def _mid_step_work(force, v_start, v_end, dt):
 
 
 def mid_step_work(force: np.ndarray, v_start: np.ndarray, v_end: np.ndarray, dt: float) -> float:
-    """Work [kJ/m] of nodal forces ``F(t)`` over one step with the mid-step velocity
-    ``(v(t - dt/2) + v(t + dt/2)) / 2``: the central-difference update changes the kinetic
-    energy by exactly ``sum F(t) . v_mid dt``, so this is the energy a force term gave the
-    bodies in the step.  For the contact damping forces ``-mid_step_work`` is the
-    dissipation that closes the ledger (``c_n v_n(t - dt/2)^2 dt`` overestimates it when a
-    contact vibrates at a few time steps per period: D5 with zeta = 0.2 ran at -18 %)."""
+    """Work [kJ/m] of nodal forces ``F(t)`` over one step with the mid-step velocity.
+
+    The mid-step velocity is ``(v(t - dt/2) + v(t + dt/2)) / 2``: the central-difference
+    update changes the kinetic energy by exactly ``sum F(t) . v_mid dt``, so this is the
+    energy a force term gave the bodies in the step.  For the contact damping forces
+    ``-mid_step_work`` is the dissipation that closes the ledger (``c_n v_n(t - dt/2)^2 dt``
+    overestimates it when a contact vibrates at a few time steps per period: D5 with
+    zeta = 0.2 ran at -18 %).
+    """
     if not (force.shape == v_start.shape == v_end.shape) or force.ndim != 2:
         raise ValueError(
             f"force, v_start, v_end must have the same shape (n_nodes, 2), got "

@@ -1,5 +1,6 @@
-"""Contact forces of the candidate pairs: the parallel loop over the pairs and the public
-entry point that checks its inputs.
+"""Contact forces of the candidate pairs.
+
+The parallel loop over the pairs and the public entry point that checks its inputs.
 
 ``contact_forces`` validates its arguments and calls ``add_contact_forces``; the explicit
 loop (``hybrid.discrete.run``) calls ``add_contact_forces`` itself every step, with the
@@ -34,8 +35,10 @@ _NO_SPLIT = np.zeros((2, 1, 2))  # stands in for split_force when none is asked 
 
 
 class ContactBuffers:
-    """Work arrays of ``add_contact_forces``: made once by the caller, reused every step and
-    grown (never shrunk) when the mesh or the pair list outgrows them.
+    """Work arrays of ``add_contact_forces``.
+
+    Made once by the caller, reused every step and grown (never shrunk) when the mesh or the
+    pair list outgrows them.
 
     Per element: ``boxes`` (box [xmin, ymin, xmax, ymax]) and ``reflex`` (reflex vertex, -1:
     convex).  Per pair (the first ``n_pairs`` rows are used): ``f_pair`` (force on B),
@@ -74,9 +77,11 @@ class ContactBuffers:
 def _contact_kernel(x, v, mass, element_nodes, element_material, contact_table, pairs, shear, dt,
                     force, split_force, with_split, boxes, reflex, f_pair, w_a, w_b, diss,
                     f_split, active, xy, clip):
-    """``add_contact_forces`` (see there) with the work arrays of ``ContactBuffers``; with
-    ``with_split`` the damping part of the normal forces (as applied, after the clamp) is
-    also added to ``split_force[0]`` and the tangential part to ``split_force[1]``."""
+    """``add_contact_forces`` (see there) with the work arrays of ``ContactBuffers``.
+
+    With ``with_split`` the damping part of the normal forces (as applied, after the clamp)
+    is also added to ``split_force[0]`` and the tangential part to ``split_force[1]``.
+    """
     n_pairs = pairs.shape[0]
     n_el = element_nodes.shape[0]
     nen = element_nodes.shape[1]
@@ -154,8 +159,9 @@ def add_contact_forces(x: np.ndarray, v: np.ndarray, mass: np.ndarray, element_n
                        pairs: np.ndarray, shear: np.ndarray, dt: float, force: np.ndarray,
                        split_force: np.ndarray | None,
                        buffers: ContactBuffers) -> tuple[int, float, float]:
-    """``contact_forces`` without the input checks, with the caller's work arrays: the hot
-    path of the explicit loop (arguments and return as ``contact_forces``).
+    """``contact_forces`` without the input checks, with the caller's work arrays.
+
+    The hot path of the explicit loop (arguments and return as ``contact_forces``).
 
     Nothing is checked here: wrong shapes, dtypes or indices read or write out of bounds.
     """
@@ -273,8 +279,10 @@ def contact_forces(
 def rigid_contact_mass(
     mass: np.ndarray, fixed: np.ndarray, element_nodes: np.ndarray
 ) -> np.ndarray:
-    """Nodal masses for ``contact_forces``: ``inf`` on the nodes of elements whose nodes are
-    all fixed in both directions (rigid ground, walls), the lumped mass elsewhere.
+    """Nodal masses for ``contact_forces``.
+
+    ``inf`` on the nodes of elements whose nodes are all fixed in both directions (rigid
+    ground, walls), the lumped mass elsewhere.
     """
     mass = np.asarray(mass, dtype=np.float64)
     fixed = np.asarray(fixed, dtype=bool)

@@ -1,5 +1,6 @@
-"""The contact force of one element pair: the force law at the contact point and its
-distribution to the nodes.
+"""The contact force of one element pair.
+
+The force law at the contact point and its distribution to the nodes.
 
 Thesis (G. S. Bala 2008) section 4.3, eqs 4.6, 4.9, 4.10.  Force on B (A gets the
 opposite), from the overlap area ``A``, its centroid ``c``, the normal ``n`` (A -> B) and
@@ -124,8 +125,10 @@ def _effective_mass(m_a, m_b):
 
 @njit(cache=True)
 def point_law(area, lc, nx, ny, vx, vy, m_eff, kn, kt, mu, zeta, sx, sy, dt):
-    """The force law at the contact point: normal force (eq 4.6) with damping, never
-    adhesive, and the tangential spring (eq 4.9) capped at ``mu F_n`` (eq 4.10).
+    """The force law at the contact point.
+
+    Normal force (eq 4.6) with damping, never adhesive, and the tangential spring (eq 4.9)
+    capped at ``mu F_n`` (eq 4.10).
 
     ``(vx, vy)``: velocity of B relative to A at the contact point; ``(sx, sy)``: the
     tangential history at the start of the step.  Returns ``(f_n, f_el, sx, sy, diss_f,

@@ -40,8 +40,10 @@ _OWN_VERTICES = np.arange(4, dtype=np.int64).reshape(1, 4)  # index table of a l
 # --------------------------------------------------------------------------------------
 @njit(cache=True)
 def polygon_box(pts, ids, row, n):
-    """Box ``(xmin, ymin, xmax, ymax)`` of the polygon whose vertex k is ``pts[ids[row, k]]``,
-    ``k < n``."""
+    """Box ``(xmin, ymin, xmax, ymax)`` of a polygon given by vertex indices.
+
+    Vertex k (``k < n``) of the polygon is ``pts[ids[row, k]]``.
+    """
     i0 = ids[row, 0]
     xmin = pts[i0, 0]
     xmax = xmin
@@ -58,8 +60,9 @@ def polygon_box(pts, ids, row, n):
 
 @njit(cache=True)
 def reflex_vertex(pts, ids, row, n):
-    """Index of the reflex vertex of a counter-clockwise quad (vertex k at
-    ``pts[ids[row, k]]``), -1 if convex (or n != 4).
+    """Index of the reflex vertex of a counter-clockwise quad, -1 if convex (or n != 4).
+
+    Vertex k of the quad is ``pts[ids[row, k]]``.
 
     Vertex i is reflex when the cross product of its incoming and outgoing edges is negative
     (a simple quad has at most one).
@@ -83,8 +86,10 @@ def reflex_vertex(pts, ids, row, n):
 
 @njit(cache=True)
 def element_box_reflex(x, element_nodes, e, boxes, reflex):
-    """Box [xmin, ymin, xmax, ymax] (not grown) and reflex vertex of element ``e`` from the
-    node coordinates, into ``boxes[e]`` and ``reflex[e]``."""
+    """Box [xmin, ymin, xmax, ymax] (not grown) and reflex vertex of element ``e``.
+
+    Computed from the node coordinates, written into ``boxes[e]`` and ``reflex[e]``.
+    """
     nen = element_nodes.shape[1]
     xmin, ymin, xmax, ymax = polygon_box(x, element_nodes, e, nen)
     boxes[e, 0] = xmin
@@ -130,12 +135,15 @@ def _load_piece(poly, n, reflex, piece, out):
 
 @njit(cache=True)
 def _clip_pass(src, n, first, dst, ax, ay, ex, ey, j):
-    """One Sutherland-Hodgman pass: keep the part of ``src[:n]`` left of the edge through
-    (ax, ay) with direction (ex, ey); write it to ``dst``, return its vertex count.
+    """One Sutherland-Hodgman pass: clip ``src[:n]`` by one edge into ``dst``.
+
+    Keeps the part of ``src[:n]`` left of the edge through (ax, ay) with direction (ex, ey),
+    writes it to ``dst`` and returns its vertex count.
 
     Column 2 labels the edge leaving each vertex: -1 on the subject polygon's boundary, k on
     the clip polygon's edge k (``first``: ``src`` is the subject itself, every label -1); an
-    edge keeps its label when clipped, and the stretch along the clip line gets ``j``."""
+    edge keeps its label when clipped, and the stretch along the clip line gets ``j``.
+    """
     m = 0
     px = src[n - 1, 0]
     py = src[n - 1, 1]
@@ -210,10 +218,13 @@ def _clip_convex(sub, ns, clip, nc, out, tmp):
 # --------------------------------------------------------------------------------------
 @njit(cache=True)
 def _subject_normal(poly, n):
-    """Sum of (outward normal x length) over the outline edges of the clipped polygon
-    ``poly[:n]`` that lie on the subject's boundary (label -1): the subject's edge lengths
-    inside the clip polygon along their outward normals, i.e. minus the gradient of the
-    overlap area under a translation of the clip polygon."""
+    """Sum of (outward normal x length) over the subject's edges in the clipped polygon.
+
+    The edges are those of the outline of ``poly[:n]`` that lie on the subject's boundary
+    (label -1): the subject's edge lengths inside the clip polygon along their outward
+    normals, i.e. minus the gradient of the overlap area under a translation of the clip
+    polygon.
+    """
     gx = 0.0
     gy = 0.0
     for i in range(n):
@@ -250,8 +261,9 @@ def area_centroid(poly, n):
 
 @njit(cache=True)
 def overlap_pieces(pa, na, ra, pb, nb, rb, piece_a, piece_b, out, tmp):
-    """Overlap of polygons A = ``pa[:na]`` and B = ``pb[:nb]`` (ccw, 3 or 4 vertices) with
-    reflex vertices ``ra``/``rb`` (-1: convex), their boxes known to overlap.
+    """Overlap of polygons A = ``pa[:na]`` and B = ``pb[:nb]`` (ccw, 3 or 4 vertices).
+
+    ``ra``/``rb`` are their reflex vertices (-1: convex); their boxes are known to overlap.
 
     Four scratch arrays (MAXV, 3) passed separately (no array views in the hot loop: each
     view costs numba an atomic reference count).  Returns ``(area, cx, cy, gx, gy)``:
@@ -299,9 +311,12 @@ def overlap_pieces(pa, na, ra, pb, nb, rb, piece_a, piece_b, out, tmp):
 
 @njit(cache=True)
 def overlap_geometry(pa, na, pb, nb, work):
-    """``overlap_pieces`` of two lone polygons ``pa[:na]``, ``pb[:nb]`` (ccw, 3 or 4
-    vertices), with the box test and the reflex vertices; ``work`` is scratch of shape
-    (4, MAXV, 3).  Returns ``(area, cx, cy, gx, gy)``."""
+    """``overlap_pieces`` of two lone polygons ``pa[:na]``, ``pb[:nb]``.
+
+    The polygons are ccw with 3 or 4 vertices; the box test is made and the reflex vertices
+    found here.  ``work`` is scratch of shape (4, MAXV, 3).  Returns
+    ``(area, cx, cy, gx, gy)``.
+    """
     axmin, aymin, axmax, aymax = polygon_box(pa, _OWN_VERTICES, 0, na)
     bxmin, bymin, bxmax, bymax = polygon_box(pb, _OWN_VERTICES, 0, nb)
     if axmin >= bxmax or bxmin >= axmax or aymin >= bymax or bymin >= aymax:
@@ -313,8 +328,11 @@ def overlap_geometry(pa, na, pb, nb, work):
 
 @njit(cache=True)
 def normal_length(pa, pb, nen, area, gx, gy):
-    """Unit normal (A -> B) and contact length ``L_c`` from the area gradient ``G``; when
-    ``G`` vanishes (one element inside the other): centroid to centroid, ``L_c = sqrt(A)``."""
+    """Unit normal (A -> B) and contact length ``L_c`` from the area gradient ``G``.
+
+    When ``G`` vanishes (one element inside the other): centroid to centroid,
+    ``L_c = sqrt(A)``.
+    """
     lc = np.sqrt(gx * gx + gy * gy)
     if lc > 1e-12 * np.sqrt(area):
         return gx / lc, gy / lc, lc
@@ -330,13 +348,16 @@ def normal_length(pa, pb, nen, area, gx, gy):
 
 @njit(cache=True, inline="always")
 def pair_overlap(a, b, ra, rb, x, element_nodes, pa, pb, piece_a, piece_b, out, tmp):
-    """Overlap of elements a (A) and b (B) of the mesh, their boxes known to overlap and
-    ``ra``/``rb`` their reflex vertices: copies their vertices into ``pa``/``pb`` (4, 2) and
-    returns ``(area, cx, cy, nx, ny, L_c)``, all zero when they do not overlap.
+    """Overlap of elements a (A) and b (B) of the mesh.
+
+    Their boxes are known to overlap and ``ra``/``rb`` are their reflex vertices: copies
+    their vertices into ``pa``/``pb`` (4, 2) and returns ``(area, cx, cy, nx, ny, L_c)``,
+    all zero when they do not overlap.
 
     Inlined into its callers (numba IR): it runs once per candidate pair whose boxes
     overlap, and as a call passing eight arrays field by field it would cost the contact
-    kernel ~9 % (1e3-element collapse)."""
+    kernel ~9 % (1e3-element collapse).
+    """
     nen = element_nodes.shape[1]
     for k in range(nen):
         na_ = element_nodes[a, k]
@@ -356,8 +377,11 @@ def pair_overlap(a, b, ra, rb, x, element_nodes, pa, pb, piece_a, piece_b, out, 
 # Python level
 # --------------------------------------------------------------------------------------
 def check_mesh(x: np.ndarray, element_nodes: np.ndarray) -> None:
-    """Raise a ValueError unless ``x`` is finite (n_nodes, 2) and ``element_nodes``
-    (n_elements, 3 or 4) indexes its rows."""
+    """Raise a ValueError unless the mesh arrays are valid.
+
+    ``x`` must be finite (n_nodes, 2) and ``element_nodes`` (n_elements, 3 or 4) must index
+    its rows.
+    """
     if x.ndim != 2 or x.shape[1] != 2:
         raise ValueError(f"x must have shape (n_nodes, 2), got {x.shape}")
     if not np.isfinite(x).all():
