@@ -10,8 +10,12 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass, replace
+from typing import Any
 
 GRAVITY = 9.81  # m/s2, converts unit weight (kN/m3) to density (t/m3)
+#: Default of ``Material.unit_weight`` and ``.density``: whichever is not given follows from
+#: the other (both 0 when neither is given).
+GIVEN_OR_DERIVED: Any = None
 
 __all__ = ["GRAVITY", "Bond", "Contact", "Material", "MaterialError", "MaterialWarning",
            "Strength"]
@@ -179,8 +183,8 @@ class Material:
     name: str
     E: float
     nu: float
-    unit_weight: float | None = None
-    density: float | None = None
+    unit_weight: float = GIVEN_OR_DERIVED
+    density: float = GIVEN_OR_DERIVED
     cohesion: float = 0.0
     phi: float = 0.0
     psi: float = 0.0
@@ -272,7 +276,7 @@ class Material:
 
     @property
     def lame_lambda(self) -> float:
-        """lambda = E nu / ((1 + nu)(1 - 2 nu)) [kPa]."""
+        """Lame's first parameter lambda = E nu / ((1 + nu)(1 - 2 nu)) [kPa]."""
         return self.E * self.nu / ((1.0 + self.nu) * (1.0 - 2.0 * self.nu))
 
     @property

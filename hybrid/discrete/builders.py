@@ -48,9 +48,11 @@ def rectangle_mesh(width: float, height: float, nx: int, ny: int, element: str =
 def rectangle(width: float, height: float, nx: int, ny: int, element: str = "Q4", *,
               material: Material, origin=(0.0, 0.0),
               gravity=(0.0, -GRAVITY)) -> DiscreteState:
-    """A tied rectangle of nx x ny cells (Q4, or T3 with two triangles per cell) of one
-    material, lower-left corner at ``origin`` [m]; all coincident nodes tied, every inner edge
-    an intact splittable interface, nothing fixed."""
+    """A tied rectangle of nx x ny cells of one material, lower-left corner at ``origin`` [m].
+
+    Q4, or T3 with two triangles per cell; all coincident nodes tied, every inner edge an
+    intact splittable interface, nothing fixed.
+    """
     points, cells = rectangle_mesh(width, height, nx, ny, element, origin)
     return from_mesh(points, cells, np.zeros(cells.shape[0], dtype=np.int32), [material],
                      gravity=gravity)

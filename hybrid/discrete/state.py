@@ -12,6 +12,7 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field, fields
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -20,6 +21,9 @@ from hybrid.materials import GRAVITY, Material
 
 __all__ = ["DiscreteState", "from_mesh", "material_rows", "check_elements",
            "groups_csr", "Q4_GAUSS"]
+
+#: Default of the engine's work arrays: ``__post_init__`` makes them to the state's size.
+MADE_ON_CREATION: Any = None
 
 # Q4 2x2 Gauss points, point k next to node k (counter-clockwise corner order).
 _G = 1.0 / math.sqrt(3.0)
@@ -95,17 +99,17 @@ class DiscreteState:
     time: float = 0.0  # [s]
     step: int = 0
     # engine work arrays (part of the state so that a checkpoint restarts bit for bit)
-    internal_force: np.ndarray | None = None  # (n_nodes, 2) I = sum B^T sigma dA [kN/m]
-    group_mass: np.ndarray | None = None  # (n_groups,) summed lumped mass per tie group [t/m]
-    group_energy: np.ndarray | None = None  # (n_groups, 4) [work of loads and gravity, work of
+    internal_force: np.ndarray = MADE_ON_CREATION  # (n_nodes, 2) I = sum B^T sigma dA [kN/m]
+    group_mass: np.ndarray = MADE_ON_CREATION  # (n_groups,) summed lumped mass per tie group [t/m]
+    group_energy: np.ndarray = MADE_ON_CREATION  # (n_groups, 4) [work of loads and gravity, work of
     #     supports, mass-damping and local-damping dissipation] accumulated per group [kJ/m]
-    ledger: np.ndarray | None = None  # (8,) [friction, contact damping, then group_energy's
+    ledger: np.ndarray = MADE_ON_CREATION  # (8,) [friction, contact damping, then group_energy's
     #     four columns folded in when groups are renumbered, -, -] [kJ/m]
-    contact_pairs: np.ndarray | None = None  # (n_pairs, 2) int64 current candidate pairs
-    contact_shear: np.ndarray | None = None  # (n_pairs, 2) tangential spring force history [kN/m]
+    contact_pairs: np.ndarray = MADE_ON_CREATION  # (n_pairs, 2) int64 current candidate pairs
+    contact_shear: np.ndarray = MADE_ON_CREATION  # (n_pairs, 2) tangential spring force [kN/m]
     primed: bool = False  # internal_force consistent with (x, stress)
     dt: float = 0.0  # time step of the last run [s] (reused on restart when dt is not given)
-    rigid_links: np.ndarray | None = None  # (n_links, 2) int64 node pairs kept in one tie
+    rigid_links: np.ndarray = MADE_ON_CREATION  # (n_links, 2) int64 node pairs kept in one tie
     #     group whatever splits (``tie_rigidly``: a rigid, non-rotating platen such as a footing)
 
     def __post_init__(self) -> None:
@@ -129,23 +133,30 @@ class DiscreteState:
     # -- sizes ------------------------------------------------------------------------------
     @property
     def n_nodes(self) -> int:
+        """Number of nodes (every element owns its own)."""
         return int(self.x.shape[0])
 
     @property
     def n_elements(self) -> int:
+        """Number of elements."""
         return int(self.element_nodes.shape[0])
 
     @property
     def nen(self) -> int:
+        """Nodes per element: 4 (Q4) or 3 (T3)."""
         return int(self.element_nodes.shape[1])
 
     @property
     def n_groups(self) -> int:
+        """Number of tie groups (nodes sharing one velocity)."""
         return int(self.group_ptr.shape[0] - 1)
 
     def refresh_groups(self) -> None:
-        """Recompute group_mass from mass and the tie groups (after the groups or masses
-        changed); group_energy is folded into the ledger if the group count changed."""
+        """Recompute group_mass from mass and the tie groups.
+
+        Called after the groups or masses changed; group_energy is folded into the ledger if
+        the group count changed.
+        """
         ng = self.n_groups
         self.group_mass = np.add.reduceat(self.mass[self.group_nodes], self.group_ptr[:-1]) \
             if ng else np.zeros(0)
@@ -154,10 +165,13 @@ class DiscreteState:
             self.group_energy = np.zeros((ng, 4))
 
     def tie_rigidly(self, nodes) -> None:
-        """Give the ``nodes`` (indices or a bool mask) and everything tied to them one common
-        velocity for good: a rigid platen that translates without rotating (a rough rigid
-        footing, a loading plate). Their forces and masses are summed; the common velocity is
-        the mass-weighted mean (momentum kept). Interface failures never separate them."""
+        """Give the ``nodes`` (indices or a bool mask) one common velocity for good.
+
+        Everything tied to them joins: a rigid platen that translates without rotating (a
+        rough rigid footing, a loading plate). Their forces and masses are summed; the common
+        velocity is the mass-weighted mean (momentum kept). Interface failures never separate
+        them.
+        """
         idx = np.asarray(nodes)
         idx = np.flatnonzero(idx) if idx.dtype == bool else idx.astype(np.int64)
         if idx.size < 2:
@@ -181,8 +195,11 @@ class DiscreteState:
 
     # -- convenience ------------------------------------------------------------------------
     def fix(self, mask, *, x: bool = True, y: bool = True, velocity=(0.0, 0.0)) -> None:
-        """Hold the velocity of the nodes in ``mask`` (bool (n_nodes,) or indices) at
-        ``velocity`` [m/s] in the chosen directions."""
+        """Hold the velocity of the nodes in ``mask`` at ``velocity`` [m/s].
+
+        ``mask`` is a bool (n_nodes,) array or node indices; ``x`` and ``y`` choose the
+        directions held.
+        """
         idx = np.flatnonzero(mask) if np.asarray(mask).dtype == bool else np.asarray(mask)
         for d, on in enumerate((x, y)):
             if on:
@@ -197,7 +214,7 @@ class DiscreteState:
 
     def copy(self) -> DiscreteState:
         """Deep copy (all arrays copied)."""
-        kw = {}
+        kw: dict[str, Any] = {}
         for f in fields(self):
             v = getattr(self, f.name)
             kw[f.name] = v.copy() if isinstance(v, np.ndarray) else v
@@ -207,7 +224,7 @@ class DiscreteState:
     def save(self, path: str | Path) -> Path:
         """Write every field to an ``.npz`` file (no pickle); ``load`` restarts bit for bit."""
         path = Path(path)
-        arrays = {}
+        arrays: dict[str, np.ndarray] = {}
         for f in fields(self):
             v = getattr(self, f.name)
             arrays[f.name] = np.asarray(v)
@@ -218,7 +235,7 @@ class DiscreteState:
     def load(cls, path: str | Path) -> DiscreteState:
         """Read a checkpoint written by ``save``."""
         with np.load(path, allow_pickle=False) as data:
-            kw = {}
+            kw: dict[str, Any] = {}
             for f in fields(cls):
                 if f.name not in data:
                     if f.default is None:  # optional field of a newer layout
@@ -246,7 +263,7 @@ def _signed_areas(p: np.ndarray) -> np.ndarray:
 
 
 def _q4_detj(p: np.ndarray) -> np.ndarray:
-    """det J at the 2x2 Gauss points of Q4 elements p (n, 4, 2) -> (n, 4)."""
+    """The Jacobian determinant at the 2x2 Gauss points of Q4 elements p (n, 4, 2) -> (n, 4)."""
     out = np.empty((p.shape[0], 4))
     for g, (xi, eta) in enumerate(Q4_GAUSS):
         dxi = 0.25 * np.array([-(1 - eta), (1 - eta), (1 + eta), -(1 + eta)])
