@@ -31,7 +31,7 @@ import numpy as np
 
 from hybrid.discrete import integrate, rectangle
 from hybrid.discrete.run import run
-from hybrid.io import Check, write_summary
+from hybrid.io import Check, save_figure, write_summary
 from hybrid.materials import GRAVITY, Material
 from hybrid.report import plot_energy
 
@@ -68,10 +68,7 @@ def _plot_velocity(path: Path, t: np.ndarray, v: np.ndarray, v_exact: np.ndarray
     ax.set_ylabel("downward velocity [m/s]")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="best")
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path)
 
 
 def main(out: str | Path = "results/free_fall", **overrides) -> dict:

@@ -43,7 +43,7 @@ from hybrid.discrete.energy import energy_excess, energy_peak_ratio
 from hybrid.discrete.run import run
 from hybrid.geometry import build_mesh, load_builder
 from hybrid.handover import Region, residual_force, to_discrete
-from hybrid.io import Check, write_summary
+from hybrid.io import Check, save_figure, write_summary
 from hybrid.materials import GRAVITY, Bond, Contact, Material
 from hybrid.model import Fixed, Model
 from hybrid.report import plot_energy
@@ -123,10 +123,7 @@ def _plot_failures(path: Path, st, modes: np.ndarray, s1: np.ndarray, face: np.n
     ax.set_aspect("equal")
     ax.set_title("failed interfaces (reference shape)")
     ax.legend(fontsize=7, loc="upper left")
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path)
 
 
 def main(out: str | Path = "results/toppling", **overrides) -> dict:

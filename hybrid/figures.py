@@ -16,7 +16,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from hybrid.io import gather_cells, plot_cell_field
+from hybrid.io import gather_cells, plot_cell_field, save_figure
 
 __all__ = ["Column", "window_overlay", "construction_figures", "plot_displacement_vectors",
            "plot_column_profiles", "safety_figures"]
@@ -48,18 +48,6 @@ def window_overlay(window: Window) -> Callable[[Any], None]:
         ax.set_ylim(window[2], window[3])
 
     return crop
-
-
-def _save(fig: Any, path: str | Path) -> Path:
-    """Lay out, write and close a matplotlib figure."""
-    import matplotlib.pyplot as plt
-
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
-    return path
 
 
 def _cell_fields(out: Path, mesh: Any, fields: list[tuple], active: np.ndarray,
@@ -149,7 +137,7 @@ def plot_displacement_vectors(path: str | Path, mesh: Any, state: Any, *, active
     ax.set_ylabel(elevation_label)
     ax.set_title(f"{title}; longest = {longest:g} m on the plot")
     fig.colorbar(q, ax=ax, label="|u| [m]", shrink=0.8)
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def plot_column_profiles(path: str | Path, mesh: Any, state: Any, strain_yy: np.ndarray,
@@ -185,7 +173,7 @@ def plot_column_profiles(path: str | Path, mesh: Any, state: Any, strain_yy: np.
             ax.axhline(level, color="0.8", linewidth=0.5)
         ax.grid(alpha=0.3)
     fig.suptitle(title)
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def safety_figures(out: str | Path, mesh: Any, safety: Any, *, active: np.ndarray,

@@ -95,6 +95,18 @@ def write_summary(path: str | Path, summary: dict[str, Any], comm: Any = None) -
     return path
 
 
+def save_figure(fig: Any, path: str | Path) -> Path:
+    """Lay out, write (creating the folder) and close a matplotlib figure; returns its path."""
+    import matplotlib.pyplot as plt
+
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+    return path
+
+
 def write_continuum_xdmf(path: str | Path, state: Any) -> Path:
     """Write a :class:`~hybrid.continuum.ContinuumState` to XDMF (+ .h5) for ParaView.
 
@@ -205,10 +217,7 @@ def plot_cell_field(path: str | Path, mesh_data: Any, values: np.ndarray, *, tit
     fig.colorbar(coll, ax=ax, label=label, shrink=0.8)
     if overlay is not None:
         overlay(ax)
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path)
 
 
 def continuum_figures(out_dir: str | Path, state: Any, *, deformation_scale: float = 0.0,

@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 
 import hybrid
+from hybrid.io import save_figure
 
 __all__ = ["write_report", "format_table", "plot_load_settlement", "plot_thrust_translation",
            "plot_curve", "MAX_PNG_BYTES"]
@@ -85,9 +86,7 @@ def plot_curve(path: str | Path, x: Sequence[float], y: Sequence[float], *, xlab
                                        for b in [ys, *(e[1] for e in extra.values())] if b.size)]))
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8, loc="best")
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
+    save_figure(fig, path)
     data = {"x": xs.tolist(), "y": ys.tolist(), "xlabel": xlabel, "ylabel": ylabel,
             "title": title, "references": refs,
             "more": {k: {"x": a.tolist(), "y": b.tolist()} for k, (a, b) in extra.items()}}
@@ -120,10 +119,7 @@ def plot_profile(path: str | Path, depth: Sequence[float],
         ax.set_title(title)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path)
 
 
 def plot_energy(path: str | Path, history: Mapping[str, Any]) -> Path:
@@ -150,10 +146,7 @@ def plot_energy(path: str | Path, history: Mapping[str, Any]) -> Path:
     ax.set_ylabel("energy [kJ/m]")
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7, loc="best")
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path)
 
 
 def plot_load_settlement(path: str | Path, settlement: Sequence[float],

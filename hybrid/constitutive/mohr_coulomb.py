@@ -60,6 +60,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "mohr_coulomb_point",
+    "equivalent_plastic_strain",
     "mohr_coulomb_update",
     "return_principal",
     "update_stress",
@@ -336,6 +337,22 @@ def yield_function(sxx, syy, szz, sxy, cohesion, sin_phi, cos_phi):
     return (s1 - s3) + (s1 + s3) * sin_phi - 2.0 * cohesion * cos_phi
 
 
+@numba.njit(cache=True, inline="always")
+def equivalent_plastic_strain(d0, d1, d2, K, G):
+    """Equivalent plastic strain sqrt(2/3 e_p : e_p) of a return in principal axes.
+
+    ``d0, d1, d2`` are the principal components of sigma_trial - sigma [kPa]; the plastic
+    strain is e_p = C (sigma_trial - sigma) with the elastic compliance C of K and G (tensor
+    components, volumetric part included).
+    """
+    mean = (d0 + d1 + d2) / 3.0
+    ev = mean / (3.0 * K)
+    e0 = ev + (d0 - mean) / (2.0 * G)
+    e1 = ev + (d1 - mean) / (2.0 * G)
+    e2 = ev + (d2 - mean) / (2.0 * G)
+    return math.sqrt(2.0 / 3.0 * (e0 * e0 + e1 * e1 + e2 * e2))
+
+
 @numba.njit(cache=True)
 def mohr_coulomb_point(
     sxx,
@@ -417,13 +434,7 @@ def mohr_coulomb_point(
     out_stress[2] = ret[iz]
     out_stress[3] = (ra - rb) * c * s
     # plastic strain increment (principal, tensor components) = C (sigma_tr - sigma)
-    d0, d1, d2 = s1 - r1, s2 - r2, s3 - r3
-    mean = (d0 + d1 + d2) / 3.0
-    ev = mean / (3.0 * K)
-    e0 = ev + (d0 - mean) / (2.0 * G)
-    e1 = ev + (d1 - mean) / (2.0 * G)
-    e2 = ev + (d2 - mean) / (2.0 * G)
-    deq = math.sqrt(2.0 / 3.0 * (e0 * e0 + e1 * e1 + e2 * e2))
+    deq = equivalent_plastic_strain(s1 - r1, s2 - r2, s3 - r3, K, G)
     if want_tangent:
         t = tensile_strength
         if sin_phi > 0.0:

@@ -30,7 +30,7 @@ import math
 import numpy as np
 
 import hybrid  # noqa: F401  (sets NUMBA_CACHE_DIR / OMP_WAIT_POLICY before numba loads)
-from hybrid.constitutive.mohr_coulomb import return_principal
+from hybrid.constitutive.mohr_coulomb import equivalent_plastic_strain, return_principal
 from hybrid.discrete.state import DiscreteState
 
 import numba  # isort: skip
@@ -116,16 +116,55 @@ def _mc_update(txx, tyy, tzz, txy, K, G, cohesion, sin_phi, cos_phi, sin_psi, te
         s2t = 0.0
     hm = 0.5 * (ra + rb)
     hd = 0.5 * (ra - rb)
-    d0 = s1 - r1
-    d1 = s2 - r2
-    d2 = s3 - r3
-    mean = (d0 + d1 + d2) / 3.0
-    ev = mean / (3.0 * K)
-    e0 = ev + (d0 - mean) / (2.0 * G)
-    e1 = ev + (d1 - mean) / (2.0 * G)
-    e2 = ev + (d2 - mean) / (2.0 * G)
-    deq = math.sqrt(2.0 / 3.0 * (e0 * e0 + e1 * e1 + e2 * e2))
+    deq = equivalent_plastic_strain(s1 - r1, s2 - r2, s3 - r3, K, G)
     return hm + hd * c2, hm - hd * c2, rz, hd * s2t, deq, 1
+
+
+@numba.njit(cache=True, inline="always")
+def _increment_gradient(j11, j12, j21, j22, k11, k12, k21, k22):
+    """Gradient of the displacement increment on the mid-step configuration, L = dJ Jm^-1.
+
+    J is the Jacobian at the end of the step, dJ (k) its increment, Jm = J - dJ / 2 and
+    Jm^-1 = [[m22, -m12], [-m21, m11]] / det Jm. Returns (L11, L12, L21, L22).
+    """
+    m11 = j11 - 0.5 * k11
+    m12 = j12 - 0.5 * k12
+    m21 = j21 - 0.5 * k21
+    m22 = j22 - 0.5 * k22
+    idm = 1.0 / (m11 * m22 - m12 * m21)
+    l11 = (k11 * m22 - k12 * m21) * idm
+    l12 = (-k11 * m12 + k12 * m11) * idm
+    l21 = (k21 * m22 - k22 * m21) * idm
+    l22 = (-k21 * m12 + k22 * m11) * idm
+    return l11, l12, l21, l22
+
+
+@numba.njit(cache=True, inline="always")
+def _point_update(stress, plastic_strain, yielded, e, gp, l12, l21, dexx, deyy, dgxy,
+                  material_table, m, elastic, plastic_cap):
+    """Stress update of Gauss point ``gp`` of element ``e``, written in place.
+
+    The objective elastic trial (``_objective_trial``), then the isotropic Mohr-Coulomb
+    return (it commutes with the rotation) unless the material is elastic or the point's
+    plastic strain has reached ``plastic_cap``. Returns the new (sxx, syy, szz, sxy).
+    """
+    K = material_table[m, 0]
+    G = material_table[m, 1]
+    lam = K - 2.0 * G / 3.0
+    sxx, syy, szz, sxy = _objective_trial(
+        stress[e, gp, 0], stress[e, gp, 1], stress[e, gp, 2], stress[e, gp, 3], l12, l21,
+        dexx, deyy, dgxy, lam, G)
+    if not elastic and plastic_strain[e, gp] < plastic_cap:
+        sxx, syy, szz, sxy, dp, yl = _mc_update(
+            sxx, syy, szz, sxy, K, G, material_table[m, 2], material_table[m, 3],
+            material_table[m, 4], material_table[m, 5], material_table[m, 6])
+        plastic_strain[e, gp] += dp
+        yielded[e, gp] = yl
+    stress[e, gp, 0] = sxx
+    stress[e, gp, 1] = syy
+    stress[e, gp, 2] = szz
+    stress[e, gp, 3] = sxy
+    return sxx, syy, szz, sxy
 
 
 @numba.njit(cache=True, parallel=True)
@@ -159,10 +198,7 @@ def _q4_kernel(x, v, dt, element_nodes, element_material, material_table, elasti
         w2 = dt * v[n2, 1]
         w3 = dt * v[n3, 1]
         m = element_material[e]
-        K = material_table[m, 0]
-        G = material_table[m, 1]
         elastic = elastic_only[m]
-        lam = K - 2.0 * G / 3.0
         # exact area change of the bilinear element (shoelace; quadratic in x so the mid-step
         # area gradient times du equals A1 - A0 exactly)
         a1 = 0.5 * ((x2 - x0) * (y3 - y1) - (x3 - x1) * (y2 - y0))
@@ -215,34 +251,14 @@ def _q4_kernel(x, v, dt, element_nodes, element_material, material_table, elasti
             k12 = bu + cu * xi
             k21 = aw + cw * eta
             k22 = bw + cw * xi
-            m11 = j11 - 0.5 * k11
-            m12 = j12 - 0.5 * k12
-            m21 = j21 - 0.5 * k21
-            m22 = j22 - 0.5 * k22
-            idm = 1.0 / (m11 * m22 - m12 * m21)
-            # L = dJ Jm^-1, Jm^-1 = [[m22, -m12], [-m21, m11]] / det
-            l11 = (k11 * m22 - k12 * m21) * idm
-            l12 = (-k11 * m12 + k12 * m11) * idm
-            l21 = (k21 * m22 - k22 * m21) * idm
-            l22 = (-k21 * m12 + k22 * m11) * idm
+            l11, l12, l21, l22 = _increment_gradient(j11, j12, j21, j22, k11, k12, k21, k22)
             corr = 0.5 * (theta_bar - l11 - l22) * vol
             dexx = l11 + corr
             deyy = l22 + corr
             dgxy = l12 + l21
-            sxx, syy, szz, sxy = _objective_trial(
-                stress[e, gp, 0], stress[e, gp, 1], stress[e, gp, 2], stress[e, gp, 3], l12,
-                l21, dexx, deyy, dgxy, lam, G)
-            # isotropic return (commutes with the rotation); none beyond the plastic cap
-            if not elastic and plastic_strain[e, gp] < plastic_cap:
-                sxx, syy, szz, sxy, dp, yl = _mc_update(
-                    sxx, syy, szz, sxy, K, G, material_table[m, 2], material_table[m, 3],
-                    material_table[m, 4], material_table[m, 5], material_table[m, 6])
-                plastic_strain[e, gp] += dp
-                yielded[e, gp] = yl
-            stress[e, gp, 0] = sxx
-            stress[e, gp, 1] = syy
-            stress[e, gp, 2] = szz
-            stress[e, gp, 3] = sxy
+            sxx, syy, szz, sxy = _point_update(stress, plastic_strain, yielded, e, gp, l12, l21,
+                                               dexx, deyy, dgxy, material_table, m, elastic,
+                                               plastic_cap)
             # force on the new configuration: det J dN/dx = j22 dNxi - j21 dNeta,
             # det J dN/dy = -j12 dNxi + j11 dNeta
             det = j11 * j22 - j12 * j21
@@ -299,9 +315,6 @@ def _t3_kernel(x, v, dt, element_nodes, element_material, material_table, elasti
         w1 = dt * v[n1, 1]
         w2 = dt * v[n2, 1]
         m = element_material[e]
-        K = material_table[m, 0]
-        G = material_table[m, 1]
-        lam = K - 2.0 * G / 3.0
         # J = [[x1-x0, x2-x0], [y1-y0, y2-y0]] (area coordinates)
         j11 = x1 - x0
         j12 = x2 - x0
@@ -311,31 +324,13 @@ def _t3_kernel(x, v, dt, element_nodes, element_material, material_table, elasti
         k12 = u2 - u0
         k21 = w1 - w0
         k22 = w2 - w0
-        m11 = j11 - 0.5 * k11
-        m12 = j12 - 0.5 * k12
-        m21 = j21 - 0.5 * k21
-        m22 = j22 - 0.5 * k22
-        idm = 1.0 / (m11 * m22 - m12 * m21)
-        l11 = (k11 * m22 - k12 * m21) * idm
-        l12 = (-k11 * m12 + k12 * m11) * idm
-        l21 = (k21 * m22 - k22 * m21) * idm
-        l22 = (-k21 * m12 + k22 * m11) * idm
+        l11, l12, l21, l22 = _increment_gradient(j11, j12, j21, j22, k11, k12, k21, k22)
         dexx = l11
         deyy = l22
         dgxy = l12 + l21
-        sxx, syy, szz, sxy = _objective_trial(
-            stress[e, 0, 0], stress[e, 0, 1], stress[e, 0, 2], stress[e, 0, 3], l12, l21, dexx,
-            deyy, dgxy, lam, G)
-        if not elastic_only[m] and plastic_strain[e, 0] < plastic_cap:
-            sxx, syy, szz, sxy, dp, yl = _mc_update(
-                sxx, syy, szz, sxy, K, G, material_table[m, 2], material_table[m, 3],
-                material_table[m, 4], material_table[m, 5], material_table[m, 6])
-            plastic_strain[e, 0] += dp
-            yielded[e, 0] = yl
-        stress[e, 0, 0] = sxx
-        stress[e, 0, 1] = syy
-        stress[e, 0, 2] = szz
-        stress[e, 0, 3] = sxy
+        sxx, syy, szz, sxy = _point_update(stress, plastic_strain, yielded, e, 0, l12, l21, dexx,
+                                           deyy, dgxy, material_table, m, elastic_only[m],
+                                           plastic_cap)
         det = j11 * j22 - j12 * j21
         h = 0.5 if det > 0.0 else math.nan
         # A dN_a/dx = (y_{a+1} - y_{a+2}) / 2, A dN_a/dy = (x_{a+2} - x_{a+1}) / 2

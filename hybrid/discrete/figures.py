@@ -12,6 +12,7 @@ from typing import Any
 import numpy as np
 
 from hybrid.discrete.state import DiscreteState
+from hybrid.io import save_figure
 
 __all__ = ["plot_configuration", "failed_segments", "Snapshots"]
 
@@ -74,10 +75,7 @@ def plot_configuration(path: str | Path, state: DiscreteState, *, title: str = "
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
     ax.set_title(title or f"t = {state.time:.4g} s")
-    fig.tight_layout()
-    fig.savefig(path)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path)
 
 
 class Snapshots:
