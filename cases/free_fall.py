@@ -30,7 +30,8 @@ from pathlib import Path
 import numpy as np
 
 from hybrid.discrete import DiscreteMaterial, integrate, rectangle
-from hybrid.discrete.run import run
+from hybrid.discrete.outputs import standard_outputs
+from hybrid.discrete.solver import ExplicitSolver, RunOptions
 from hybrid.io import Check, write_summary
 from hybrid.materials import GRAVITY
 from hybrid.report import plot_energy
@@ -84,7 +85,8 @@ def main(out: str | Path = "results/free_fall", **overrides) -> dict:
     # --- D1: undamped fall, one step measured ----------------------------------------------
     st = rectangle(p.size, p.size, p.n, p.n, material=mat, gravity=(0.0, -p.g))
     dt = p.safety * integrate.stable_time_step(st)
-    run(st, max_steps=p.free_steps, dt=dt, progress=False, check_every=p.free_steps)
+    with ExplicitSolver(st, RunOptions(dt=dt)) as solver:
+        solver.run(max_steps=p.free_steps, check_every=p.free_steps)
     v0 = st.v.copy()
     integrate.step(st, dt)
     acc = (st.v - v0) / dt
@@ -101,9 +103,10 @@ def main(out: str | Path = "results/free_fall", **overrides) -> dict:
         # v(-dt/2) = 0, so the closed form below is started at -dt/2 too
         record.append((s.time - 0.5 * s.dt, -float(s.v[:, 1].mean())))
 
-    res = run(st, until_time=p.t_end, dt=dt, damping=p.alpha, progress=p.progress,
-              check_every=p.check_every, output_every=p.output_every, out_dir=out,
-              on_check=on_check)
+    outputs = standard_outputs(out, output_every=p.output_every, progress=p.progress)
+    with ExplicitSolver(st, RunOptions(dt=dt, mass_damping=p.alpha),
+                        observers=outputs) as solver:
+        res = solver.run(until_time=p.t_end, check_every=p.check_every, on_check=on_check)
     v_term = p.g / p.alpha
     t_rec, v_rec = (np.array(c) for c in zip(*record, strict=True))
     v_exact = v_term * (1.0 - np.exp(-p.alpha * (t_rec + 0.5 * dt)))

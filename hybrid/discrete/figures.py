@@ -76,7 +76,7 @@ def plot_configuration(path: str | Path, state: DiscreteState, *, title: str = "
 
 
 class Snapshots:
-    """``on_check`` callback of :func:`hybrid.discrete.run.run`: a :func:`plot_configuration`
+    """``on_check`` callback of :meth:`ExplicitSolver.run`: a :func:`plot_configuration`
     PNG ``{prefix}{t:g}.png`` in ``out`` when the time first reaches each of ``times`` [s].
 
     ``title`` is formatted with the state's ``time``; ``paths`` lists the files written; the
