@@ -139,7 +139,7 @@ class Parameters:
     region_layers: int = 2  # growth of the splittable region around the yielded cells
     split_plastic_strain: float = 0.02  # bonds also fail beyond this plastic strain [-]
     plastic_strain_cap: float | None = 2.0  # element flow limit [-] (None: none)
-    damping: float = 0.5  # mass damping alpha [1/s]
+    mass_damping: float = 0.5  # mass damping alpha [1/s]
     contact_damping: float = 0.2  # normal contact damping ratio [-]
     clay_residual_phi: float = 12.0  # contact friction of yellow clay and core [deg]
     fill_residual_phi: float = 14.5  # contact friction of Zone I, Zone II, berm [deg]
@@ -335,7 +335,7 @@ def discrete_phase(phase: ContinuumPhase, p: Parameters, out: Path) -> dict[str,
     snapshots = Snapshots(out, [1.0, 3.0, 6.0, 10.0], prefix="discrete_t", window=window,
                           title="t = {time:.3g} s: failed interfaces (red), plastic strain")
     dt = 0.5 * stable_time_step(disc, contact=True)
-    options = RunOptions(dt=dt, mass_damping=p.damping, split_every=10,
+    options = RunOptions(dt=dt, mass_damping=p.mass_damping, split_every=10,
                          split_plastic_strain=p.split_plastic_strain,
                          plastic_strain_cap=p.plastic_strain_cap)
     outputs = standard_outputs(

@@ -53,7 +53,7 @@ class Parameters:
     drop: float = 0.02  # initial clearance under the block [m]
     contact_phi: float = 30.0  # contact friction angle [deg]
     contact_damping: float = 0.3  # contact normal damping ratio [-]
-    alpha: float = 5.0  # mass damping (dynamic relaxation) [1/s]
+    mass_damping: float = 5.0  # mass damping alpha (dynamic relaxation) [1/s]
     rest: float = 1e-7  # stop when E_kin <= rest x max(peak E_kin, E_strain) [-]
     max_steps: int = 60_000  # step limit [-]
     check_every: int = 200  # steps between energy records
@@ -79,7 +79,7 @@ def main(out: str | Path = "results/fe_de_interaction", **overrides) -> dict:
         length = abs(xr[e[2], 0] - xr[e[3], 0])
         st.external_force[[e[2], e[3]], 1] -= q * length / 2.0
     outputs = standard_outputs(out, output_every=p.output_every, progress=p.progress)
-    with ExplicitSolver(st, RunOptions(mass_damping=p.alpha), observers=outputs) as solver:
+    with ExplicitSolver(st, RunOptions(mass_damping=p.mass_damping), observers=outputs) as solver:
         res = solver.run(until_rest=p.rest, max_steps=p.max_steps, check_every=p.check_every)
     h = res.history
 

@@ -72,7 +72,7 @@ class Parameters:
     max_time: float = 3.0  # give up the loaded phase after this time [s]
     region_layers: int = 2  # growth of the splittable region around the yielded cells
     freeze_layers: int = 6  # cells beyond this many layers of the region are held
-    damping: float = 2.0  # mass damping alpha [1/s] in the discrete phase
+    mass_damping: float = 2.0  # mass damping alpha [1/s] in the discrete phase
     rest: float = 1e-4  # kinetic / strain energy ratio taken as rest
     output_every: int = 400  # discrete steps between outputs (0: none)
     safety: float = 0.5  # time step as a fraction of the stable one
@@ -177,7 +177,7 @@ def main(out: str | Path = "results/footing_failure", **overrides) -> dict:
         return phase["name"] == "rest"
 
     mass0, n0 = float(disc.mass.sum()), disc.n_elements
-    options = RunOptions(mass_damping=p.damping, safety=p.safety,
+    options = RunOptions(mass_damping=p.mass_damping, safety=p.safety,
                          split_plastic_strain=p.split_plastic_strain,
                          plastic_strain_cap=p.plastic_strain_cap, split_every=10)
     outputs = standard_outputs(out / "discrete", output_every=p.output_every,

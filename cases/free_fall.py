@@ -45,7 +45,7 @@ class Parameters:
     size: float = 4.0  # block width and height [m]
     n: int = 4  # elements per side
     g: float = GRAVITY  # gravity [m/s2]
-    alpha: float = 3.0  # mass damping of the D2 run [1/s]
+    mass_damping: float = 3.0  # mass damping alpha of the D2 run [1/s]
     free_steps: int = 50  # undamped steps before the D1 acceleration is measured
     t_end: float = 6.0  # end of the damped run [s] (1 - exp(-alpha t_end) of g / alpha)
     safety: float = 0.5  # dt = safety x stable time step [-]
@@ -104,12 +104,12 @@ def main(out: str | Path = "results/free_fall", **overrides) -> dict:
         record.append((s.time - 0.5 * s.dt, -float(s.v[:, 1].mean())))
 
     outputs = standard_outputs(out, output_every=p.output_every, progress=p.progress)
-    with ExplicitSolver(st, RunOptions(dt=dt, mass_damping=p.alpha),
+    with ExplicitSolver(st, RunOptions(dt=dt, mass_damping=p.mass_damping),
                         observers=outputs) as solver:
         res = solver.run(until_time=p.t_end, check_every=p.check_every, on_check=on_check)
-    v_term = p.g / p.alpha
+    v_term = p.g / p.mass_damping
     t_rec, v_rec = (np.array(c) for c in zip(*record, strict=True))
-    v_exact = v_term * (1.0 - np.exp(-p.alpha * (t_rec + 0.5 * dt)))
+    v_exact = v_term * (1.0 - np.exp(-p.mass_damping * (t_rec + 0.5 * dt)))
     v_end = -st.v[:, 1]
     worst_v = float(v_end[np.argmax(np.abs(v_end - v_term))])
 

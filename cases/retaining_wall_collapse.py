@@ -76,7 +76,7 @@ class Parameters:
     split_plastic_strain: float = 0.02  # bonds fail beyond this plastic strain [-]
     plastic_strain_cap: float = 0.3  # element flow stops here, sliding takes over [-]
     contact_damping: float = 0.2  # normal contact damping ratio zeta [-]
-    damping: float = 1.0  # mass damping alpha [1/s]
+    mass_damping: float = 1.0  # mass damping alpha [1/s]
     wedge_at: float = 1.0  # face-top movement at which the wedge is measured (0.1 H) [m]
     max_time: float = 30.0  # give up after this time [s]
     rest: float = 1e-4  # kinetic / strain energy ratio taken as rest
@@ -189,7 +189,7 @@ def main(out: str | Path = "results/retaining_wall_collapse", **overrides) -> di
         return False
 
     options = RunOptions(
-        mass_damping=p.damping, split_plastic_strain=p.split_plastic_strain,
+        mass_damping=p.mass_damping, split_plastic_strain=p.split_plastic_strain,
         plastic_strain_cap=p.plastic_strain_cap, split_every=10,
         contact_bounds=(-p.front - p.height, -2.0, p.length + 1.0, 2.0 * p.height))
     outputs = standard_outputs(out / "discrete", output_every=p.output_every,

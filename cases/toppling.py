@@ -65,7 +65,7 @@ class Parameters:
     interface_phi: float = 35.0  # interface friction angle (no tension, no cohesion) [deg]
     contact_phi: float = 35.0  # contact friction angle [deg]
     contact_damping: float = 0.3  # contact normal damping ratio [-]
-    alpha: float = 0.5  # mass damping [1/s]
+    mass_damping: float = 0.5  # mass damping alpha [1/s]
     split_every: int = 10  # steps between interface failure checks
     rest: float = 1e-4  # stop when E_kin <= rest x max(peak E_kin, E_strain) [-]
     t_end: float = 15.0  # time limit [s]
@@ -174,7 +174,7 @@ def main(out: str | Path = "results/toppling", **overrides) -> dict:
 
     # splitting done here (after each block of split_every steps, where the contact list is
     # refreshed on the next step as the solver does with its own split_every)
-    options = RunOptions(mass_damping=p.alpha, contact=True, contact_refresh=p.split_every)
+    options = RunOptions(mass_damping=p.mass_damping, contact=True, contact_refresh=p.split_every)
     outputs = standard_outputs(out, output_every=p.output_every, progress=p.progress)
     with ExplicitSolver(st, options, observers=outputs) as solver:
         res = solver.run(until_rest=p.rest, until_time=p.t_end, check_every=p.split_every,
