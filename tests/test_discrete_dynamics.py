@@ -7,6 +7,7 @@ import pytest
 
 from hybrid.discrete import DiscreteMaterial, integrate, rectangle
 from hybrid.discrete.elements import internal_forces
+from hybrid.discrete.outputs import Checkpoints
 from hybrid.discrete.solver import run
 
 import numba  # isort: skip
@@ -209,7 +210,7 @@ def test_checkpoint_restart_bit_for_bit(tmp_path):
     """A run stopped at a checkpoint and restarted from the npz gives the same numbers."""
     st = _loaded_block()
     run(st, max_steps=150, mass_damping=2.0, split_every=10, contact=False,
-        out_dir=tmp_path, checkpoint_every=150)
+        observers=[Checkpoints(tmp_path, 150)])
     restarted = type(st).load(tmp_path / "checkpoint.npz")
     run(st, max_steps=150, mass_damping=2.0, split_every=10, contact=False)
     run(restarted, max_steps=150, mass_damping=2.0, split_every=10, contact=False)
