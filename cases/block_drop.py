@@ -32,7 +32,8 @@ import numpy as np
 
 from hybrid.discrete.builders import blocks
 from hybrid.discrete.energy import energy_excess, energy_peak_ratio
-from hybrid.discrete.run import run
+from hybrid.discrete.outputs import standard_outputs
+from hybrid.discrete.solver import ExplicitSolver, RunOptions
 from hybrid.io import Check, write_summary
 from hybrid.materials import GRAVITY, Contact, Material
 from hybrid.report import plot_energy
@@ -52,7 +53,7 @@ class Parameters:
     element_size: float = 0.25  # Q4 element size [m]
     contact_phi: float = 30.0  # contact friction angle [deg]
     contact_damping: float = 0.2  # contact normal damping ratio [-]
-    alpha: float = 2.0  # mass damping (dynamic relaxation) [1/s]
+    mass_damping: float = 2.0  # mass damping alpha (dynamic relaxation) [1/s]
     rest: float = 1e-6  # stop when E_kin <= rest x max(peak E_kin, E_strain) [-]
     max_steps: int = 40_000  # step limit [-]
     check_every: int = 200  # steps between energy records
@@ -78,9 +79,9 @@ def main(out: str | Path = "results/block_drop", **overrides) -> dict:
     n_base = n(b) * n(hb)
     top = np.arange(2 * n_base, st.n_elements)
     st.fix(np.isclose(st.x_ref[:, 1], 0.0))
-    res = run(st, until_rest=p.rest, max_steps=p.max_steps, damping=p.alpha,
-              progress=p.progress, check_every=p.check_every, output_every=p.output_every,
-              out_dir=out)
+    outputs = standard_outputs(out, output_every=p.output_every, progress=p.progress)
+    with ExplicitSolver(st, RunOptions(mass_damping=p.mass_damping), observers=outputs) as solver:
+        res = solver.run(until_rest=p.rest, max_steps=p.max_steps, check_every=p.check_every)
     h = res.history
 
     rg = p.density * p.g

@@ -68,7 +68,8 @@ from hybrid.discrete.energy import energy_excess, energy_peak_ratio
 from hybrid.discrete.figures import Snapshots, plot_configuration
 from hybrid.discrete.integrate import stable_time_step
 from hybrid.discrete.measures import slip_surface, slip_trace, slipped_interfaces
-from hybrid.discrete.run import run
+from hybrid.discrete.outputs import standard_outputs
+from hybrid.discrete.solver import ExplicitSolver, RunOptions
 from hybrid.figures import Column, construction_figures, safety_figures
 from hybrid.geometry import MeshData, build_mesh, load_mesh_script
 from hybrid.handover import Region, to_discrete
@@ -138,7 +139,7 @@ class Parameters:
     region_layers: int = 2  # growth of the splittable region around the yielded cells
     split_plastic_strain: float = 0.02  # bonds also fail beyond this plastic strain [-]
     plastic_strain_cap: float | None = 2.0  # element flow limit [-] (None: none)
-    damping: float = 0.5  # mass damping alpha [1/s]
+    mass_damping: float = 0.5  # mass damping alpha [1/s]
     contact_damping: float = 0.2  # normal contact damping ratio [-]
     clay_residual_phi: float = 12.0  # contact friction of yellow clay and core [deg]
     fill_residual_phi: float = 14.5  # contact friction of Zone I, Zone II, berm [deg]
@@ -335,12 +336,15 @@ def discrete_phase(phase: ContinuumPhase, p: Parameters, out: Path) -> dict[str,
     snapshots = Snapshots(out, [1.0, 3.0, 6.0, 10.0], prefix="discrete_t", window=window,
                           title="t = {time:.3g} s: failed interfaces (red), plastic strain")
     dt = 0.5 * stable_time_step(disc, contact=True)
-    res = run(disc, until_time=p.discrete_time, until_rest=p.rest, rest_min_steps=2000,
-              dt=dt, damping=p.damping, split_every=10,
-              split_plastic_strain=p.split_plastic_strain,
-              plastic_strain_cap=p.plastic_strain_cap, on_check=snapshots, check_every=50,
-              output_every=max(int(p.discrete_time / dt) // p.frames, 1) if p.frames else 0,
-              out_dir=out / "discrete", progress=p.progress)
+    options = RunOptions(dt=dt, mass_damping=p.mass_damping, split_every=10,
+                         split_plastic_strain=p.split_plastic_strain,
+                         plastic_strain_cap=p.plastic_strain_cap)
+    outputs = standard_outputs(
+        out / "discrete", progress=p.progress,
+        output_every=max(int(p.discrete_time / dt) // p.frames, 1) if p.frames else 0)
+    with ExplicitSolver(disc, options, observers=outputs) as solver:
+        res = solver.run(until_time=p.discrete_time, until_rest=p.rest, rest_min_steps=2000,
+                         on_check=snapshots, check_every=50)
     on_surface = slip_surface(disc, p.slip_min)
     lines = {f"slip surface: slipped >= {p.slip_min:g} m":
              disc.x[disc.interface_nodes[on_surface][:, :2]]}
@@ -391,7 +395,7 @@ def discrete_phase(phase: ContinuumPhase, p: Parameters, out: Path) -> dict[str,
             "max_upstream_movement_m": float(-u[emb_nodes, 0].min()),
             "energy_peak_over_supply": energy_peak_ratio(h),
             "figures": [str(f) for f in paths],
-            "outputs": [str(f) for f in res.files if f.suffix != ".png"]},
+            "outputs": [str(f) for f in solver.files if f.suffix != ".png"]},
         "checks": {**phase.summary["checks"], **checks}}
 
 

@@ -31,7 +31,8 @@ import numpy as np
 
 from hybrid.discrete.builders import blocks
 from hybrid.discrete.energy import energy_excess, energy_peak_ratio
-from hybrid.discrete.run import run
+from hybrid.discrete.outputs import standard_outputs
+from hybrid.discrete.solver import ExplicitSolver, RunOptions
 from hybrid.io import Check, write_summary
 from hybrid.materials import Contact, Material
 from hybrid.report import plot_energy
@@ -52,7 +53,7 @@ class Parameters:
     drop: float = 0.02  # initial clearance under the block [m]
     contact_phi: float = 30.0  # contact friction angle [deg]
     contact_damping: float = 0.3  # contact normal damping ratio [-]
-    alpha: float = 5.0  # mass damping (dynamic relaxation) [1/s]
+    mass_damping: float = 5.0  # mass damping alpha (dynamic relaxation) [1/s]
     rest: float = 1e-7  # stop when E_kin <= rest x max(peak E_kin, E_strain) [-]
     max_steps: int = 60_000  # step limit [-]
     check_every: int = 200  # steps between energy records
@@ -77,9 +78,9 @@ def main(out: str | Path = "results/fe_de_interaction", **overrides) -> dict:
     for e in st.element_nodes[n_ass:]:  # Q4 nodes 2, 3 form the top edge (counter-clockwise)
         length = abs(xr[e[2], 0] - xr[e[3], 0])
         st.external_force[[e[2], e[3]], 1] -= q * length / 2.0
-    res = run(st, until_rest=p.rest, max_steps=p.max_steps, damping=p.alpha,
-              progress=p.progress, check_every=p.check_every, output_every=p.output_every,
-              out_dir=out)
+    outputs = standard_outputs(out, output_every=p.output_every, progress=p.progress)
+    with ExplicitSolver(st, RunOptions(mass_damping=p.mass_damping), observers=outputs) as solver:
+        res = solver.run(until_rest=p.rest, max_steps=p.max_steps, check_every=p.check_every)
     h = res.history
 
     top_row = np.arange(n_ass - p.n, n_ass)

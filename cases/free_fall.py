@@ -30,7 +30,8 @@ from pathlib import Path
 import numpy as np
 
 from hybrid.discrete import integrate, rectangle
-from hybrid.discrete.run import run
+from hybrid.discrete.outputs import standard_outputs
+from hybrid.discrete.solver import ExplicitSolver, RunOptions
 from hybrid.io import Check, save_figure, write_summary
 from hybrid.materials import GRAVITY, Material
 from hybrid.report import plot_energy
@@ -44,7 +45,7 @@ class Parameters:
     size: float = 4.0  # block width and height [m]
     n: int = 4  # elements per side
     g: float = GRAVITY  # gravity [m/s2]
-    alpha: float = 3.0  # mass damping of the D2 run [1/s]
+    mass_damping: float = 3.0  # mass damping alpha of the D2 run [1/s]
     free_steps: int = 50  # undamped steps before the D1 acceleration is measured
     t_end: float = 6.0  # end of the damped run [s] (1 - exp(-alpha t_end) of g / alpha)
     safety: float = 0.5  # dt = safety x stable time step [-]
@@ -81,7 +82,8 @@ def main(out: str | Path = "results/free_fall", **overrides) -> dict:
     # --- D1: undamped fall, one step measured ----------------------------------------------
     st = rectangle(p.size, p.size, p.n, p.n, material=mat, gravity=(0.0, -p.g))
     dt = p.safety * integrate.stable_time_step(st)
-    run(st, max_steps=p.free_steps, dt=dt, progress=False, check_every=p.free_steps)
+    with ExplicitSolver(st, RunOptions(dt=dt)) as solver:
+        solver.run(max_steps=p.free_steps, check_every=p.free_steps)
     v0 = st.v.copy()
     integrate.step(st, dt)
     acc = (st.v - v0) / dt
@@ -98,12 +100,13 @@ def main(out: str | Path = "results/free_fall", **overrides) -> dict:
         # v(-dt/2) = 0, so the closed form below is started at -dt/2 too
         record.append((s.time - 0.5 * s.dt, -float(s.v[:, 1].mean())))
 
-    res = run(st, until_time=p.t_end, dt=dt, damping=p.alpha, progress=p.progress,
-              check_every=p.check_every, output_every=p.output_every, out_dir=out,
-              on_check=on_check)
-    v_term = p.g / p.alpha
+    outputs = standard_outputs(out, output_every=p.output_every, progress=p.progress)
+    with ExplicitSolver(st, RunOptions(dt=dt, mass_damping=p.mass_damping),
+                        observers=outputs) as solver:
+        res = solver.run(until_time=p.t_end, check_every=p.check_every, on_check=on_check)
+    v_term = p.g / p.mass_damping
     t_rec, v_rec = (np.array(c) for c in zip(*record, strict=True))
-    v_exact = v_term * (1.0 - np.exp(-p.alpha * (t_rec + 0.5 * dt)))
+    v_exact = v_term * (1.0 - np.exp(-p.mass_damping * (t_rec + 0.5 * dt)))
     v_end = -st.v[:, 1]
     worst_v = float(v_end[np.argmax(np.abs(v_end - v_term))])
 

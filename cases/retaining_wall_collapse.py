@@ -22,7 +22,7 @@ Set-up
        held (a rigid base and run-out surface).
     3. Discrete: the wall is removed (its nodes released) and the backfill is followed until
        rest; bonds also fail beyond ``split_plastic_strain``, element flow stops at
-       ``plastic_strain_cap`` (``hybrid.discrete.run``).
+       ``plastic_strain_cap`` (``hybrid.discrete.RunOptions``).
 Verification
     Wedge angle: the back of the failed zone (at each level of the backfill the failed
     interface furthest from the wall, reference shape) is fitted with a straight line; its
@@ -47,7 +47,8 @@ import numpy as np
 from hybrid.continuum import PlasticSolver
 from hybrid.discrete.energy import energy_excess, energy_peak_ratio
 from hybrid.discrete.figures import plot_configuration
-from hybrid.discrete.run import run
+from hybrid.discrete.outputs import standard_outputs
+from hybrid.discrete.solver import ExplicitSolver, RunOptions
 from hybrid.geometry import build_mesh, load_builder
 from hybrid.handover import Region, to_discrete
 from hybrid.io import Check, plot_cell_field, write_continuum_xdmf, write_summary
@@ -75,7 +76,7 @@ class Parameters:
     split_plastic_strain: float = 0.02  # bonds fail beyond this plastic strain [-]
     plastic_strain_cap: float = 0.3  # element flow stops here, sliding takes over [-]
     contact_damping: float = 0.2  # normal contact damping ratio zeta [-]
-    damping: float = 1.0  # mass damping alpha [1/s]
+    mass_damping: float = 1.0  # mass damping alpha [1/s]
     wedge_at: float = 1.0  # face-top movement at which the wedge is measured (0.1 H) [m]
     max_time: float = 30.0  # give up after this time [s]
     rest: float = 1e-4  # kinetic / strain energy ratio taken as rest
@@ -187,12 +188,15 @@ def main(out: str | Path = "results/retaining_wall_collapse", **overrides) -> di
             marks.pop(0)
         return False
 
-    opts = dict(damping=p.damping, split_plastic_strain=p.split_plastic_strain,
-                plastic_strain_cap=p.plastic_strain_cap, split_every=10, progress=p.progress,
-                contact_bounds=(-p.front - p.height, -2.0, p.length + 1.0, 2.0 * p.height))
-    res = run(disc, until_rest=p.rest, until_time=p.max_time, rest_min_steps=5000,
-              output_every=p.output_every, out_dir=out / "discrete", on_check=watch,
-              check_every=50, **opts)
+    options = RunOptions(
+        mass_damping=p.mass_damping, split_plastic_strain=p.split_plastic_strain,
+        plastic_strain_cap=p.plastic_strain_cap, split_every=10,
+        contact_bounds=(-p.front - p.height, -2.0, p.length + 1.0, 2.0 * p.height))
+    outputs = standard_outputs(out / "discrete", output_every=p.output_every,
+                               progress=p.progress)
+    with ExplicitSolver(disc, options, observers=outputs) as solver:
+        res = solver.run(until_rest=p.rest, until_time=p.max_time, rest_min_steps=5000,
+                         on_check=watch, check_every=50)
     h = res.history
     sand_nodes = np.unique(disc.element_nodes[backfill])
     toe = float(disc.x[sand_nodes, 0].min())

@@ -40,7 +40,8 @@ import numpy as np
 from hybrid.continuum import solve_elastic
 from hybrid.discrete import ties
 from hybrid.discrete.energy import energy_excess, energy_peak_ratio
-from hybrid.discrete.run import run
+from hybrid.discrete.outputs import standard_outputs
+from hybrid.discrete.solver import ExplicitSolver, RunOptions
 from hybrid.geometry import build_mesh, load_builder
 from hybrid.handover import Region, residual_force, to_discrete
 from hybrid.io import Check, save_figure, write_summary
@@ -64,7 +65,7 @@ class Parameters:
     interface_phi: float = 35.0  # interface friction angle (no tension, no cohesion) [deg]
     contact_phi: float = 35.0  # contact friction angle [deg]
     contact_damping: float = 0.3  # contact normal damping ratio [-]
-    alpha: float = 0.5  # mass damping [1/s]
+    mass_damping: float = 0.5  # mass damping alpha [1/s]
     split_every: int = 10  # steps between interface failure checks
     rest: float = 1e-4  # stop when E_kin <= rest x max(peak E_kin, E_strain) [-]
     t_end: float = 15.0  # time limit [s]
@@ -168,10 +169,12 @@ def main(out: str | Path = "results/toppling", **overrides) -> dict:
             ties.split_interfaces(s, idx)
 
     # splitting done here (after each block of split_every steps, where the contact list is
-    # refreshed on the next step as run() does with its own split_every)
-    res = run(st, until_rest=p.rest, until_time=p.t_end, damping=p.alpha, contact=True,
-              contact_refresh=p.split_every, check_every=p.split_every, progress=p.progress,
-              output_every=p.output_every, out_dir=out, on_check=split)
+    # refreshed on the next step as the solver does with its own split_every)
+    options = RunOptions(mass_damping=p.mass_damping, contact=True, contact_refresh=p.split_every)
+    outputs = standard_outputs(out, output_every=p.output_every, progress=p.progress)
+    with ExplicitSolver(st, options, observers=outputs) as solver:
+        res = solver.run(until_rest=p.rest, until_time=p.t_end, check_every=p.split_every,
+                         on_check=split)
     h = res.history
 
     tension = fail_mode == ties.FAIL_TENSION

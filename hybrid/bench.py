@@ -9,7 +9,9 @@ Problems (element-steps per second = elements x steps / wall time of the steppin
 - ``collapse``: a column with no-tension cohesionless interfaces on a rigid base, under tilted
   gravity, splitting every 10 steps and with contact (only when hybrid.discrete.contact exists).
 
-Each figure is the median of ``--repeats`` timed runs after one warm-up run (compilation),
+Each problem is stepped by ``ExplicitSolver.step`` (contact refresh and forces, the update,
+the contact terms of the energy ledger, splitting: what a run does per step, without its
+checks). Each figure is the median of ``--repeats`` timed runs after one warm-up run (compilation),
 for every size in ``--sizes`` and thread count in ``--threads``. Peak RSS from getrusage.
 """
 
@@ -47,7 +49,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
 
 
 def build_problem(kind: str, n_elements: int):
-    """(state, step options) of one benchmark problem with about n_elements elements."""
+    """(state, ``RunOptions`` fields) of one benchmark problem with about n_elements elements."""
     from hybrid.discrete import rectangle
     from hybrid.materials import Bond, Contact, Material
 
@@ -59,7 +61,7 @@ def build_problem(kind: str, n_elements: int):
             mat = Material(name="block", E=1.0e5, nu=0.3, density=2.0)
             st = rectangle(nx * size, ny * size, nx, ny, material=mat)
             st.fix(np.isclose(st.x_ref[:, 1], 0.0))
-            return st, {"alpha": 2.0}
+            return st, {"mass_damping": 2.0, "contact": False}
         mat = Material(name="block", E=1.0e5, nu=0.3, density=2.0, plastic=True, cohesion=10.0)
         st = rectangle(nx * size, ny * size, nx, ny, material=mat, gravity=(0.0, 0.0))
         st.stress[:] = [-50.0, -70.0, -60.0, 0.0]  # sigma_1 - sigma_3 = 2c: on the yield surface
@@ -69,7 +71,7 @@ def build_problem(kind: str, n_elements: int):
         st.fix(np.ones(st.n_nodes, dtype=bool))
         st.prescribed_velocity[:] = vel
         st.v[:] = vel
-        return st, {"alpha": 0.0}
+        return st, {"mass_damping": 0.0, "contact": False}
     if kind == "collapse":
         ny = max(int(round(math.sqrt(4 * n_elements))), 2)
         nx = max(int(round(n_elements / ny)), 1)
@@ -79,7 +81,7 @@ def build_problem(kind: str, n_elements: int):
         st = rectangle(float(nx), float(ny), nx, ny, material=mat, gravity=(-3.0, -9.81))
         base = st.element_nodes[:nx].ravel()  # bottom row: a rigid base (all nodes fixed)
         st.fix(base)
-        return st, {"alpha": 0.0, "split_every": 10, "contact": True}
+        return st, {"mass_damping": 0.0, "split_every": 10, "contact": True}
     raise ValueError(f"unknown problem {kind!r}: choose from {PROBLEMS}")
 
 
@@ -88,8 +90,8 @@ def measure(kind: str, n_elements: int, threads: int, repeats: int,
     """Median element-steps/s of ``repeats`` timed runs (after a warm-up) of one problem."""
     import numba
 
-    from hybrid.discrete import integrate, ties
-    from hybrid.discrete.run import has_contact_module
+    from hybrid.discrete import integrate
+    from hybrid.discrete.solver import ExplicitSolver, RunOptions, has_contact_module
 
     numba.set_num_threads(threads)
     rates = []
@@ -102,50 +104,20 @@ def measure(kind: str, n_elements: int, threads: int, repeats: int,
         st, opt = build_problem(kind, n_elements)
         n = st.n_elements
         steps = max(int(element_steps / n), 20) if rep else 5
-        dt = 0.5 * integrate.stable_time_step(st, contact=opt.get("contact", False))
         use_contact = opt.get("contact", False) and has_contact_module()
         if opt.get("contact", False) and not use_contact:
             return {"problem": kind, "skipped": "hybrid.discrete.contact not available"}
-        integrate.prime(st)
-        if use_contact:
-            from hybrid.discrete import contact as cmod
-            from hybrid.discrete.contact.forces import ContactBuffers, add_contact_forces
-            cbuf = ContactBuffers()
-            cforce = np.zeros_like(st.x)
-            cmass = cmod.rigid_contact_mass(st.mass, st.fixed, st.element_nodes)
-            # let it collapse a little first so that contacts are active when timed
-            warm_steps = 300 if rep else 0
-        else:
-            warm_steps = 0
-        n_active = 0
-        has_ext = bool(np.any(st.external_force))
+        dt = 0.5 * integrate.stable_time_step(st, contact=use_contact)
+        solver = ExplicitSolver(st, RunOptions(dt=dt, **opt))  # the engine's own step
+        # with contact: let it collapse a little first so that contacts are active when timed
+        warm_steps = 300 if use_contact and rep else 0
         t0 = 0.0
         for k in range(warm_steps + steps):
             if k == warm_steps:
                 t0 = time.perf_counter()
-            cf = None
-            if use_contact:
-                if k % 10 == 0:
-                    vmax = float(np.max(np.abs(st.v)))
-                    pairs = cmod.find_contact_pairs(st.x, st.element_nodes, st.node_group,
-                                                    max(2.0 * vmax * 10 * dt, 1e-3),
-                                                    hinges=True)  # as run() does by default
-                    st.contact_shear = cmod.carry_contact_history(st.contact_pairs,
-                                                                  st.contact_shear, pairs)
-                    st.contact_pairs = pairs
-                cforce[:] = 0.0
-                if st.contact_pairs.shape[0]:
-                    n_active, _, _ = add_contact_forces(  # the unchecked hot path, as run()
-                        st.x, st.v, cmass, st.element_nodes, st.element_material,
-                        st.contact_table, st.contact_pairs, st.contact_shear, dt, cforce, None,
-                        cbuf)
-                cf = cforce
-            integrate.step(st, dt, alpha=opt["alpha"], contact_force=cf, external=has_ext)
-            if opt.get("split_every") and st.step % opt["split_every"] == 0:
-                modes = ties.check_interfaces(st)
-                if modes.any():
-                    ties.split_interfaces(st, modes > 0)
+            solver.step()
         wall = time.perf_counter() - t0
+        n_active = solver.active_contacts
         if not np.isfinite(st.x).all():
             raise RuntimeError(f"benchmark problem {kind} went unstable")
         if rep:
@@ -180,7 +152,7 @@ def run(args: argparse.Namespace) -> int:
     """Run the benchmark, print a table, optionally write JSON; returns the exit code."""
     import numba
 
-    from hybrid.discrete.run import has_contact_module
+    from hybrid.discrete.solver import has_contact_module
 
     rss0 = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024.0
     old = numba.get_num_threads()

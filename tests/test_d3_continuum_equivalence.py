@@ -8,7 +8,7 @@ stress-free mesh (Q4 with full 2x2 integration, the same element; updated Lagran
 
 import numpy as np
 
-from hybrid.discrete.run import run
+from hybrid.discrete.solver import run
 from hybrid.handover import to_discrete
 
 
@@ -26,7 +26,7 @@ def test_d3_tied_assembly_equals_dolfinx_q1(case):
     x0 = disc.x.copy()
     u_ref = reference.discrete.x - x0
     result = run(disc, until_rest=1e-12, max_steps=50_000, local_damping=0.8, contact=False,
-                 progress=False, bbar=False)
+                 bbar=False)
     assert result.stop_reason == "rest"
     u = disc.x - x0
     assert np.abs(u - u_ref).max() < 0.01 * np.abs(u_ref).max()

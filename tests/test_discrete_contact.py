@@ -7,7 +7,7 @@ import pytest
 
 from hybrid.discrete import ties
 from hybrid.discrete.builders import blocks, rectangle_mesh
-from hybrid.discrete.run import run
+from hybrid.discrete.solver import run
 from hybrid.discrete.state import from_mesh
 from hybrid.materials import Bond, Contact, Material
 
@@ -31,7 +31,7 @@ def test_d5_block_dropped_on_two_blocks():
     st = blocks([(1.0, 1.0, 4, 4, (0.0, 0.0), 0), (1.0, 1.0, 4, 4, (1.2, 0.0), 0),
                  (2.2, 0.5, 8, 2, (0.0, 1.05), 0)], [mat])
     st.fix(np.isclose(st.x_ref[:, 1], 0.0))
-    res = run(st, until_rest=1e-6, max_steps=40000, damping=2.0, progress=False,
+    res = run(st, until_rest=1e-6, max_steps=40000, mass_damping=2.0,
               check_every=200)
     assert res.stop_reason == "rest"
     # energy bar 1 % (D5)
@@ -59,7 +59,7 @@ def test_d6_loaded_block_on_tied_assembly():
     for e in st.element_nodes[100:]:  # uniform pressure on the block's top edge (nodes 2, 3)
         length = abs(xr[e[2], 0] - xr[e[3], 0])
         st.external_force[[e[2], e[3]], 1] -= q * length / 2.0
-    res = run(st, until_rest=1e-7, max_steps=60000, damping=5.0, progress=False,
+    res = run(st, until_rest=1e-7, max_steps=60000, mass_damping=5.0,
               check_every=200)
     assert res.stop_reason == "rest"
     # the block transmits q to the assembly: its vertical stress is -q (bar 5 %, D6)
@@ -86,9 +86,9 @@ def test_d7_friction_block_on_plane(ratio):
     N = m * G_ACC
     F = ratio * mu * N
     st.external_force[blk, 0] = F * st.mass[blk] / m
-    run(st, until_time=0.3, progress=False, contact=True)  # contact established
+    run(st, until_time=0.3, contact=True)  # contact established
     x0, v0, t0 = st.x[blk, 0].mean(), st.v[blk, 0].mean(), st.time
-    run(st, until_time=0.8, progress=False, contact=True)
+    run(st, until_time=0.8, contact=True)
     dx = st.x[blk, 0].mean() - x0
     if ratio < 1.0:
         # sticks: over 0.5 s it moves < 1 mm (frictionless it would move F/m t^2/2 = 0.35 m;
@@ -109,7 +109,7 @@ def test_d8_elastic_collision_conserves_momentum_and_energy():
     st.v[a, 0] = 1.0
     p0 = (st.mass[:, None] * st.v).sum(axis=0)
     e0 = 0.5 * float(np.sum(st.mass * st.v[:, 0] ** 2))
-    res = run(st, until_time=0.4, progress=False, contact=True, check_every=50)
+    res = run(st, until_time=0.4, contact=True, check_every=50)
     p1 = (st.mass[:, None] * st.v).sum(axis=0)
     assert np.all(np.abs(p1 - p0) <= 1e-6 * abs(p0[0]))
     assert st.v[a, 0].mean() < 0.5  # the collision happened: A lost most of its speed
@@ -137,7 +137,7 @@ def test_d10_toppling_face_with_no_tension_splitting():
                    np.r_[np.zeros(len(c1), int), np.ones(len(c2), int)], [mat, ground])
     st.fix(st.element_nodes[len(c1):].ravel())
     # first splitting check by hand: tension failures only where a principal stress > 0
-    run(st, max_steps=10, damping=0.5, progress=False, contact=True)
+    run(st, max_steps=10, mass_damping=0.5, contact=True)
     modes = ties.check_interfaces(st)
     assert (modes == ties.FAIL_TENSION).any()
     ea, eb = st.interface_elements[:, 0], st.interface_elements[:, 1]
@@ -145,8 +145,8 @@ def test_d10_toppling_face_with_no_tension_splitting():
     s1 = 0.5 * (s[:, 0] + s[:, 1]) + np.hypot(0.5 * (s[:, 0] - s[:, 1]), s[:, 3])
     assert np.all(s1[modes == ties.FAIL_TENSION] > 0.0)
     ties.split_interfaces(st, modes > 0)
-    res = run(st, until_rest=1e-4, until_time=15.0, damping=0.5, split_every=10,
-              progress=False, check_every=200)
+    res = run(st, until_rest=1e-4, until_time=15.0, mass_damping=0.5, split_every=10,
+              check_every=200)
     assert res.stop_reason == "rest"
     assert (~st.interface_intact).sum() > 50  # it broke up
     assert st.x[: 4 * len(c1), 1].max() < 5.0  # and toppled (the top was at 10 m)

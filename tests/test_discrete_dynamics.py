@@ -7,7 +7,8 @@ import pytest
 
 from hybrid.discrete import integrate, rectangle
 from hybrid.discrete.elements import internal_forces
-from hybrid.discrete.run import run
+from hybrid.discrete.outputs import Checkpoints
+from hybrid.discrete.solver import run
 from hybrid.materials import Bond, Contact, Material
 
 import numba  # isort: skip
@@ -40,13 +41,13 @@ def test_d2_terminal_velocity_with_mass_damping():
     """D2: mass damping alpha = 3 1/s gives the terminal velocity g / alpha = 3.27 m/s."""
     st = rectangle(4.0, 4.0, 4, 4, material=ROCK)
     alpha = 3.0
-    res = run(st, until_time=6.0, damping=alpha, progress=False, check_every=500)
+    res = run(st, until_time=6.0, mass_damping=alpha, check_every=500)
     assert res.stop_reason == "time"
     # after 6 s, 1 - exp(-18) of the terminal speed is reached; bar 0.5 % (D2)
     np.testing.assert_allclose(-st.v[:, 1], G_ACC / alpha, rtol=5e-3)
     # the analytic approach v(t) = g/alpha (1 - exp(-alpha t)) checked early on too
     st2 = rectangle(4.0, 4.0, 4, 4, material=ROCK)
-    run(st2, until_time=0.5, dt=res.dt, damping=alpha, progress=False)
+    run(st2, until_time=0.5, dt=res.dt, mass_damping=alpha)
     # the staggered velocity lives at t - dt/2: shift the exact value, 0.5 % bar
     v_exact = G_ACC / alpha * (1.0 - math.exp(-alpha * (st2.time - 0.5 * res.dt)))
     np.testing.assert_allclose(-st2.v[:, 1], v_exact, rtol=5e-3)
@@ -147,7 +148,7 @@ def test_dt_above_stable_limit_refused():
     cp = math.sqrt((ROCK.bulk_modulus + 4 * ROCK.shear_modulus / 3) / ROCK.density)
     assert crit == pytest.approx(1.0 / cp, rel=1e-12)
     with pytest.raises(ValueError, match="above the stable time step"):
-        run(st, max_steps=1, dt=1.01 * crit, progress=False)
+        run(st, max_steps=1, dt=1.01 * crit)
 
 
 def _loaded_block(element="Q4"):
@@ -170,8 +171,8 @@ def test_results_identical_with_one_and_two_threads():
         for n in (1, 2):
             numba.set_num_threads(n)
             st = _loaded_block()
-            run(st, max_steps=400, damping=2.0, local_damping=0.1, split_every=10,
-                contact=False, progress=False)
+            run(st, max_steps=400, mass_damping=2.0, local_damping=0.1, split_every=10,
+                contact=False)
             out[n] = st
     finally:
         numba.set_num_threads(old)
@@ -197,7 +198,7 @@ def test_contact_run_identical_with_one_and_two_threads():
                          (1.0, 1.0, 2, 2, (1.2, 1.7), 0)], [mat], rigid=[0])
             st.v[:, 0] = 0.5
             st.fix(st.element_nodes[:8].ravel())
-            run(st, max_steps=1500, damping=0.5, contact=True, progress=False)
+            run(st, max_steps=1500, mass_damping=0.5, contact=True)
             out[n] = st
     finally:
         numba.set_num_threads(old)
@@ -209,11 +210,11 @@ def test_contact_run_identical_with_one_and_two_threads():
 def test_checkpoint_restart_bit_for_bit(tmp_path):
     """A run stopped at a checkpoint and restarted from the npz gives the same numbers."""
     st = _loaded_block()
-    run(st, max_steps=150, damping=2.0, split_every=10, contact=False, progress=False,
-        out_dir=tmp_path, checkpoint_every=150)
+    run(st, max_steps=150, mass_damping=2.0, split_every=10, contact=False,
+        observers=[Checkpoints(tmp_path, 150)])
     restarted = type(st).load(tmp_path / "checkpoint.npz")
-    run(st, max_steps=150, damping=2.0, split_every=10, contact=False, progress=False)
-    run(restarted, max_steps=150, damping=2.0, split_every=10, contact=False, progress=False)
+    run(st, max_steps=150, mass_damping=2.0, split_every=10, contact=False)
+    run(restarted, max_steps=150, mass_damping=2.0, split_every=10, contact=False)
     assert restarted.step == st.step == 300
     for name in ("x", "v", "stress", "internal_force", "group_energy", "ledger", "node_group",
                  "interface_intact", "group_ptr"):

@@ -1,6 +1,6 @@
 """Energy ledger of the discrete engine with contact.
 
-The ledger (``hybrid.discrete.run.energy_ledger``) must balance:
+The ledger (``hybrid.discrete.ledger.EnergyLedger``) must balance:
 
     E_kin + E_strain + E_contact + D_damping + D_friction + D_contact_damping
         + D_normal_defect + residual = E(0) + W_loads + W_supports,
@@ -18,7 +18,8 @@ import numpy as np
 import pytest
 
 from hybrid.discrete.builders import blocks
-from hybrid.discrete.run import energy_ledger, run
+from hybrid.discrete.ledger import EnergyLedger
+from hybrid.discrete.solver import run
 from hybrid.materials import Contact, Material
 
 G_ACC = 9.81
@@ -40,23 +41,23 @@ def test_block_drop_ledger_balances(zeta):
     st = blocks([(1.0, 1.0, 4, 4, (0.0, 0.0), 0), (1.0, 1.0, 4, 4, (1.2, 0.0), 0),
                  (2.2, 0.5, 8, 2, (0.0, 1.05), 0)], [mat])
     st.fix(np.isclose(st.x_ref[:, 1], 0.0))
-    res = run(st, until_rest=1e-6, max_steps=40000, damping=2.0, progress=False,
+    res = run(st, until_rest=1e-6, max_steps=40000, mass_damping=2.0,
               check_every=200)
     assert res.stop_reason == "rest"
     ratio, scale = _residual_ratio(res)
     # bar: 2 % of the energy scale (measured 0.6 % with zeta = 0.2, 1.4 % with 0:
     # the staggered kinetic energy during the impacts)
     assert ratio < 0.02
-    led = energy_ledger(st)
+    led = EnergyLedger.measure(st)
     if zeta > 0.0:
         # the damper took a visible share of the energy (measured 35 % of the work of gravity)
-        assert led["contact_damping"] > 0.1 * scale
+        assert led.contact_damping > 0.1 * scale
     else:
-        assert led["contact_damping"] == 0.0
+        assert led.contact_damping == 0.0
     # the area-based normal force is nearly conservative: what it absorbs or gives over the
     # impacts stays small (measured +3.0 % and -0.9 %; 5 % would flag a gross error such as
     # the 18 % of the old damping estimate)
-    assert abs(led["contact_normal_defect"]) < 0.05 * scale
+    assert abs(led.contact_normal_defect) < 0.05 * scale
 
 
 def test_sliding_block_friction_is_mu_n_slip_and_ledger_balances():
@@ -71,12 +72,12 @@ def test_sliding_block_friction_is_mu_n_slip_and_ledger_balances():
     m = st.mass[blk].sum()
     N = m * G_ACC
     st.external_force[blk, 0] = 2.0 * mu * N * st.mass[blk] / m
-    run(st, until_time=0.3, progress=False, contact=True)  # contact established, sliding
+    run(st, until_time=0.3, contact=True)  # contact established, sliding
     x0 = st.x[blk, 0].mean()
-    d0 = energy_ledger(st)["friction"]
-    res = run(st, until_time=0.8, progress=False, contact=True, check_every=50)
+    d0 = EnergyLedger.measure(st).friction
+    res = run(st, until_time=0.8, contact=True, check_every=50)
     slip = st.x[blk, 0].mean() - x0
-    d_fric = energy_ledger(st)["friction"] - d0
+    d_fric = EnergyLedger.measure(st).friction - d0
     assert slip > 0.1  # it slid (measured 1.56 m)
     # Coulomb: mu N x slip; 2 % (bar of D7; measured -1.5 %: the normal force, on which the
     # cap mu F_n rides, oscillates about N)

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from hybrid.discrete import DiscreteState, integrate, rectangle, ties
-from hybrid.discrete.run import run
+from hybrid.discrete.solver import run
 from hybrid.materials import Bond, Contact, Material, MaterialError
 
 
@@ -39,7 +39,7 @@ def test_tie_rigidly_keeps_momentum_and_survives_splitting():
     assert st.n_groups > n_before  # everything else came apart
     # it moves as one: every platen node has the same velocity after a short run
     st.v[:] = 0.0
-    run(st, max_steps=50, contact=False, progress=False)
+    run(st, max_steps=50, contact=False)
     np.testing.assert_array_equal(st.v[top], np.broadcast_to(st.v[top[0]], st.v[top].shape))
 
 
@@ -66,7 +66,7 @@ def _sheared(cap):
     st.fix(np.isclose(st.x_ref[:, 1], 1.0), velocity=(1e-3, 0.0))
     dt = 0.5 * integrate.stable_time_step(st)
     for _ in range(int(0.04 / 1e-3 / dt)):
-        integrate.step(st, dt, local_damping=0.7, plastic_cap=cap)
+        integrate.step(st, dt, local_damping=0.7, plastic_strain_cap=cap)
     return st.plastic_strain.copy(), float(np.max(np.abs(st.stress[..., 3])))
 
 
@@ -85,7 +85,7 @@ def test_plastic_cap_stops_flow():
 def test_run_rejects_bad_cap():
     st = _block()
     with pytest.raises(ValueError, match="plastic_strain_cap"):
-        run(st, max_steps=1, plastic_strain_cap=0.0, progress=False)
+        run(st, max_steps=1, plastic_strain_cap=0.0)
 
 
 def test_material_reaches_the_discrete_tables():

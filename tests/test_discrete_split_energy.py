@@ -17,7 +17,8 @@ import pytest
 
 from hybrid.discrete import builders, ties
 from hybrid.discrete.contact import find_contact_pairs, overlap
-from hybrid.discrete.run import energy_ledger, run
+from hybrid.discrete.ledger import EnergyLedger
+from hybrid.discrete.solver import run
 from hybrid.materials import Bond, Contact, Material
 
 W = 1.0  # closing speed of each lower corner [m/s]
@@ -37,8 +38,8 @@ def _hinged_block():
 
 
 def _mechanical(st) -> float:
-    led = energy_ledger(st)
-    return led["kinetic"] + led["strain"] + led["contact_elastic"]
+    led = EnergyLedger.measure(st)
+    return led.kinetic + led.strain + led.contact_elastic
 
 
 def _swing(hinges: bool):
@@ -52,7 +53,7 @@ def _swing(hinges: bool):
         track["area"] = max(track["area"], a)
         track["energy"] = max(track["energy"], _mechanical(s))
 
-    run(st, until_time=0.05, dt=DT, contact=True, check_every=1, on_check=cb, progress=False,
+    run(st, until_time=0.05, dt=DT, contact=True, check_every=1, on_check=cb,
         contact_hinges=hinges)
     return st, track
 
@@ -94,7 +95,7 @@ def _swing_then_break(hinges: bool):
 def test_breaking_the_last_tie_gives_no_energy_kick_with_hinges():
     st, e_before = _swing_then_break(hinges=True)
     track: list[float] = []
-    run(st, max_steps=200, dt=DT, contact=True, check_every=1, progress=False,
+    run(st, max_steps=200, dt=DT, contact=True, check_every=1,
         on_check=lambda s: track.append(_mechanical(s)))
     # energy bounded by its value before the split (1 %: as in the energy test)
     assert max(track) <= 1.01 * e_before
@@ -105,4 +106,4 @@ def test_breaking_the_last_tie_kicks_without_hinges():
     # k_n A^2 / (2 L_c) is tens of times E(0) and the monitor stops the run
     st, _ = _swing_then_break(hinges=False)
     with pytest.raises(RuntimeError, match="grew over 10x"):
-        run(st, max_steps=200, dt=DT, contact=True, check_every=1, progress=False)
+        run(st, max_steps=200, dt=DT, contact=True, check_every=1)

@@ -21,11 +21,11 @@ def test_plastic_strain_limit_splits_only_strained_interfaces(element):
     left = centroids[:, 0] < 2.0  # the first two columns of cells yield
     st.plastic_strain[left] = 0.06
     assert not ties.check_interfaces(st).any()  # default: no plastic criterion
-    modes = ties.check_interfaces(st, plastic_strain_limit=0.05)
+    modes = ties.check_interfaces(st, split_plastic_strain=0.05)
     a, b = st.interface_elements[:, 0], st.interface_elements[:, 1]
     both = left[a] & left[b]
     one = left[a] ^ left[b]
     assert both.any() and np.all(modes[both] == ties.FAIL_PLASTIC)
     # an edge between a yielded and an intact column: mean 0.03 < 0.05 holds
     assert np.all(modes[one] == 0) and np.all(modes[~(both | one)] == 0)
-    assert not ties.check_interfaces(st, plastic_strain_limit=math.inf).any()
+    assert not ties.check_interfaces(st, split_plastic_strain=math.inf).any()

@@ -381,20 +381,20 @@ def _strain_energy_kernel(x, element_nodes, element_material, material_table, st
 
 def element_forces(x, v, dt, element_nodes, element_material, material_table, elastic_only,
                    stress, plastic_strain, yielded, force, bbar: bool = True,
-                   plastic_cap: float = math.inf) -> None:
+                   plastic_strain_cap: float = math.inf) -> None:
     """Array-level call of the element kernel (no validation: the engine's hot path).
 
     Updates stress / plastic_strain / yielded for the increment du = dt v and writes the
     internal force I on the current configuration x into force (n_nodes, 2). A Gauss point
-    whose accumulated plastic strain has reached ``plastic_cap`` responds elastically from then
-    on (see ``run``'s plastic_strain_cap).
+    whose accumulated plastic strain has reached ``plastic_strain_cap`` responds elastically
+    from then on (see ``RunOptions.plastic_strain_cap``).
     """
     if element_nodes.shape[1] == 4:
         _q4_kernel(x, v, dt, element_nodes, element_material, material_table, elastic_only,
-                   stress, plastic_strain, yielded, bbar, plastic_cap, force)
+                   stress, plastic_strain, yielded, bbar, plastic_strain_cap, force)
     else:
         _t3_kernel(x, v, dt, element_nodes, element_material, material_table, elastic_only,
-                   stress, plastic_strain, yielded, plastic_cap, force)
+                   stress, plastic_strain, yielded, plastic_strain_cap, force)
 
 
 def internal_forces(state: DiscreteState, dt: float = 0.0, *, bbar: bool = True) -> np.ndarray:

@@ -79,7 +79,7 @@ def plot_configuration(path: str | Path, state: DiscreteState, *, title: str = "
 
 
 class Snapshots:
-    """``on_check`` callback of :func:`hybrid.discrete.run.run` that plots configurations.
+    """``on_check`` callback of :meth:`ExplicitSolver.run` that plots configurations.
 
     Writes a :func:`plot_configuration` PNG ``{prefix}{t:g}.png`` in ``out`` when the time
     first reaches each of ``times`` [s].

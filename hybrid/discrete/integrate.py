@@ -190,38 +190,40 @@ def prime(state: DiscreteState) -> None:
     element_forces(state.x, zero, 0.0, state.element_nodes, state.element_material,
                    state.material_table, state.elastic_only, state.stress,
                    state.plastic_strain, state.yielded, state.internal_force,
-                   plastic_cap=0.0)  # no return mapping: the stresses stay as they are
+                   plastic_strain_cap=0.0)  # no return mapping: the stresses stay as they are
     state.primed = True
 
 
-def step(state: DiscreteState, dt: float, *, alpha: float = 0.0, local_damping: float = 0.0,
-         contact_force: np.ndarray | None = None, bbar: bool = True,
-         external: bool = True, plastic_cap: float = math.inf) -> None:
+def step(state: DiscreteState, dt: float, *, mass_damping: float = 0.0,
+         local_damping: float = 0.0, contact_force: np.ndarray | None = None,
+         bbar: bool = True, external: bool = True,
+         plastic_strain_cap: float = math.inf) -> None:
     """Advance the state by one explicit step of size dt [s].
 
-    Hot path: only scalar checks; ``run`` checks dt against the stable step once.
+    Hot path: only scalar checks; ``ExplicitSolver`` checks dt against the stable step once.
 
-    ``contact_force`` (n_nodes, 2), if given, holds the contact forces at the current
+    ``mass_damping`` is alpha [1/s] of thesis eq 3.12, ``local_damping`` Cundall's d in
+    [0, 1). ``contact_force`` (n_nodes, 2), if given, holds the contact forces at the current
     configuration (from ``hybrid.discrete.contact.contact_forces``). ``external=False`` skips
     reading ``state.external_force`` (pass it only when that array is all zero).
-    ``plastic_cap``: Gauss points with this much plastic strain respond elastically.
+    ``plastic_strain_cap``: Gauss points with this much plastic strain respond elastically.
     """
     if not (dt > 0.0 and math.isfinite(dt)):
         raise ValueError(f"dt = {dt!r}: must be a finite positive time step [s]")
-    if not (alpha >= 0.0 and 0.0 <= local_damping < 1.0):
-        raise ValueError(f"alpha = {alpha!r} must be >= 0 and local_damping = "
-                         f"{local_damping!r} in [0, 1)")
+    if not (mass_damping >= 0.0 and 0.0 <= local_damping < 1.0):
+        raise ValueError(f"mass_damping = {mass_damping!r} must be >= 0 [1/s] and "
+                         f"local_damping = {local_damping!r} in [0, 1)")
     if not state.primed:
         prime(state)
     use_c = contact_force is not None
     cf = contact_force if use_c else _EMPTY
     _group_update(state.group_ptr, state.group_nodes, state.group_mass, state.internal_force,
                   cf, use_c, state.external_force, bool(external), state.gravity, state.fixed,
-                  state.prescribed_velocity, float(alpha), float(local_damping), float(dt),
-                  state.v, state.x, state.group_energy)
+                  state.prescribed_velocity, float(mass_damping), float(local_damping),
+                  float(dt), state.v, state.x, state.group_energy)
     element_forces(state.x, state.v, float(dt), state.element_nodes, state.element_material,
                    state.material_table, state.elastic_only, state.stress, state.plastic_strain,
-                   state.yielded, state.internal_force, bbar, float(plastic_cap))
+                   state.yielded, state.internal_force, bbar, float(plastic_strain_cap))
     state.time += dt
     state.step += 1
 

@@ -7,7 +7,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from hybrid.discrete.integrate import prime
-from hybrid.discrete.run import run
+from hybrid.discrete.solver import ExplicitSolver, RunOptions
 from hybrid.discrete.start import Handover
 from hybrid.discrete.state import DiscreteState
 
@@ -44,18 +44,21 @@ class SettleReport:
         return dict(self.__dict__)
 
 
-def settle(handover: Handover, *, steps: int = 2000, damping: float | None = None,
+def settle(handover: Handover, *, steps: int = 2000, mass_damping: float = 0.0,
            local_damping: float = 0.7) -> SettleReport:
     """Tied settle of the discrete start: ``steps`` explicit steps with mass damping
-    ``damping`` [1/s] and local damping ``local_damping`` [-], no splitting, no contact."""
+    ``mass_damping`` [1/s] and local damping ``local_damping`` [-], no splitting, no
+    contact."""
     disc = handover.discrete
     x0, s0 = disc.x.copy(), disc.stress.copy()
     r0 = float(np.linalg.norm(residual_force(disc)))
     weight = disc.mass[:, None] * disc.gravity[None, :] + disc.external_force
     ref = float(np.linalg.norm(weight))
     saved = disc.interface_splittable.copy()
-    run(disc, max_steps=steps, damping=damping or 0.0, local_damping=local_damping,
-        split_every=0, contact=False, progress=False)
+    opts = RunOptions(mass_damping=mass_damping, local_damping=local_damping, split_every=0,
+                      contact=False)
+    with ExplicitSolver(disc, opts) as solver:
+        solver.run(max_steps=steps)
     disc.interface_splittable[:] = saved
     r1 = float(np.linalg.norm(residual_force(disc)))
     scale = float(np.max(np.abs(s0))) or 1.0

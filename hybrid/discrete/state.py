@@ -29,6 +29,13 @@ MADE_ON_CREATION: Any = None
 _G = 1.0 / math.sqrt(3.0)
 Q4_GAUSS = np.array([[-_G, -_G], [_G, -_G], [_G, _G], [-_G, _G]])
 
+# Slots of ``DiscreteState.ledger``, the energy accumulators of the run [kJ/m] (see
+# ``hybrid.discrete.ledger`` for what each term means).
+LEDGER_FRICTION = 0  # minus the work of the tangential contact forces
+LEDGER_CONTACT_DAMPING = 1  # minus the work of the contact damping forces
+LEDGER_GROUPS = slice(2, 6)  # group_energy's four columns, folded in when groups change
+LEDGER_CONTACT_NORMAL = 6  # minus the work of the elastic normal contact forces
+
 
 def material_rows(materials: Sequence[Material], element_size: float):
     """The state's material tables from a sequence of ``Material``.
@@ -103,8 +110,10 @@ class DiscreteState:
     group_mass: np.ndarray = MADE_ON_CREATION  # (n_groups,) summed lumped mass per tie group [t/m]
     group_energy: np.ndarray = MADE_ON_CREATION  # (n_groups, 4) [work of loads and gravity, work of
     #     supports, mass-damping and local-damping dissipation] accumulated per group [kJ/m]
-    ledger: np.ndarray = MADE_ON_CREATION  # (8,) [friction, contact damping, then group_energy's
-    #     four columns folded in when groups are renumbered, -, -] [kJ/m]
+    ledger: np.ndarray = MADE_ON_CREATION  # (8,) [friction, contact damping, then
+    #     group_energy's four columns folded in when groups are renumbered, elastic normal
+    #     contact work, -] [kJ/m]; slots LEDGER_FRICTION, LEDGER_CONTACT_DAMPING,
+    #     LEDGER_GROUPS, LEDGER_CONTACT_NORMAL
     contact_pairs: np.ndarray = MADE_ON_CREATION  # (n_pairs, 2) int64 current candidate pairs
     contact_shear: np.ndarray = MADE_ON_CREATION  # (n_pairs, 2) tangential spring force [kN/m]
     primed: bool = False  # internal_force consistent with (x, stress)
@@ -161,7 +170,7 @@ class DiscreteState:
         self.group_mass = np.add.reduceat(self.mass[self.group_nodes], self.group_ptr[:-1]) \
             if ng else np.zeros(0)
         if self.group_energy is not None and self.group_energy.shape[0] != ng:
-            self.ledger[2:6] += self.group_energy.sum(axis=0)
+            self.ledger[LEDGER_GROUPS] += self.group_energy.sum(axis=0)
             self.group_energy = np.zeros((ng, 4))
 
     def tie_rigidly(self, nodes) -> None:

@@ -11,7 +11,7 @@ tau = |t - sigma_N n| the interface fails
   strictly greater, so that an unloaded cohesionless interface, tau = 0 = c, stays intact),
 
 with the interface properties of the weaker of the two materials (the smaller of each of
-c, tan phi and the tensile strength). Optionally (``plastic_strain_limit``, an addition to the
+c, tan phi and the tensile strength). Optionally (``split_plastic_strain``, an addition to the
 thesis) an interface also fails when the mean accumulated plastic strain of those Gauss points
 exceeds the limit: inside a Mohr-Coulomb element the stress is capped on the yield surface, so
 the traction on a mesh edge not aligned with the critical plane never reaches the bond
@@ -28,7 +28,7 @@ import math
 import numpy as np
 
 import hybrid  # noqa: F401
-from hybrid.discrete.state import DiscreteState, groups_csr
+from hybrid.discrete.state import LEDGER_GROUPS, DiscreteState, groups_csr
 
 import numba  # isort: skip
 
@@ -112,11 +112,11 @@ def _failure_kernel(x, element_nodes, element_material, stress, interface_elemen
             out[i] = 0
 
 
-def check_interfaces(state: DiscreteState, plastic_strain_limit: float = math.inf
+def check_interfaces(state: DiscreteState, split_plastic_strain: float = math.inf
                      ) -> np.ndarray:
     """Failure mode per interface (n_if,) int8.
 
-    0 holds, 1 tension, 2 shear, 3 plastic strain above ``plastic_strain_limit`` (see
+    0 holds, 1 tension, 2 shear, 3 plastic strain above ``split_plastic_strain`` (see
     module).
     """
     out = np.zeros(state.interface_elements.shape[0], dtype=np.int8)
@@ -125,7 +125,7 @@ def check_interfaces(state: DiscreteState, plastic_strain_limit: float = math.in
                         state.interface_elements, state.interface_nodes,
                         state.interface_intact, state.interface_splittable,
                         state.interface_table, state.plastic_strain,
-                        float(plastic_strain_limit), out)
+                        float(split_plastic_strain), out)
     return out
 
 
@@ -184,8 +184,7 @@ def split_interfaces(state: DiscreteState, failed) -> int:
     state.node_group = node_group
     state.group_ptr, state.group_nodes = groups_csr(node_group, next_id)
     # masses of the new groups; the energy accumulators are folded into the ledger
-    assert state.ledger is not None and state.group_energy is not None  # set in __post_init__
-    state.ledger[2:6] += state.group_energy.sum(axis=0)
+    state.ledger[LEDGER_GROUPS] += state.group_energy.sum(axis=0)
     state.group_energy = np.zeros((next_id, 4))
     state.refresh_groups()
     return int(idx.size)

@@ -3,7 +3,7 @@
 The parallel loop over the pairs and the public entry point that checks its inputs.
 
 ``contact_forces`` validates its arguments and calls ``add_contact_forces``; the explicit
-loop (``hybrid.discrete.run``) calls ``add_contact_forces`` itself every step, with the
+loop (``ExplicitSolver.step``) calls ``add_contact_forces`` itself every step, with the
 ``ContactBuffers`` it made once, and pays no O(n) check per step.
 
 Determinism: every pair is computed into a per-pair buffer (``prange`` over interleaved

@@ -1,0 +1,535 @@
+"""The explicit solver of the discrete engine: one step, and runs to a time, a step count or rest.
+
+Orchestration only (no math here). :meth:`ExplicitSolver.step` calls the kernels in order:
+contact refresh (``contact.find_contact_pairs`` every ``contact_refresh`` steps and after each
+splitting check), contact forces (``contact.forces.add_contact_forces``), the explicit update
+(``integrate.step``: tie groups, central differences, element stresses and internal forces),
+the contact terms of the energy ledger (``contact.mid_step_work``, see
+``hybrid.discrete.ledger``) and, every ``split_every`` steps, interface failure and splitting
+(``ties``). :meth:`ExplicitSolver.run` only loops and checks: every ``check_every`` steps it
+measures the ledger, stops an unstable run, records the history, detects rest and calls the
+observers and ``on_check``.
+
+The settings are split in two. :class:`RunOptions` (physics and numerics: time step,
+damping, splitting, contact, element formulation) is fixed for the solver's lifetime, so one
+solver is one consistent model. The arguments of :meth:`ExplicitSolver.run` say when one run
+stops and how it is watched (``until_time``, ``max_steps``, ``until_rest`` with
+``rest_min_steps``, ``check_every``, ``on_check``); several runs of one solver continue each
+other (a loading phase, then a rest phase). Outputs (time series, frames, checkpoints,
+progress bars) are :class:`Observer` objects of the output layer
+(``hybrid.discrete.outputs``) attached to the solver for its lifetime; closing the solver
+(:meth:`ExplicitSolver.close` or a ``with`` block) closes them.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import time as _time
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass, field, fields
+from pathlib import Path
+
+import numpy as np
+
+from hybrid.discrete import integrate, ties
+from hybrid.discrete.ledger import EnergyLedger
+from hybrid.discrete.state import (
+    LEDGER_CONTACT_DAMPING,
+    LEDGER_CONTACT_NORMAL,
+    LEDGER_FRICTION,
+    DiscreteState,
+)
+
+__all__ = ["RunOptions", "ExplicitSolver", "Observer", "RunResult", "run",
+           "has_contact_module"]
+
+log = logging.getLogger(__name__)
+
+#: keys of ``RunResult.history`` (the ledger's terms between time/step and residual)
+HISTORY_KEYS = ("time", "step", *(f.name for f in fields(EnergyLedger)), "residual")
+
+
+def has_contact_module() -> bool:
+    """True when ``hybrid.discrete.contact`` can be imported."""
+    try:
+        import hybrid.discrete.contact  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+@dataclass(frozen=True, kw_only=True)
+class RunOptions:
+    """Physics and numerics of an :class:`ExplicitSolver`, fixed for its lifetime.
+
+    Attributes:
+        dt: time step [s]; None reuses ``state.dt`` (a continued state) or takes ``safety``
+            times the stable step. A dt above the stable step is refused.
+        safety: fraction of the stable time step when dt is None, in (0, 1] [-].
+        mass_damping: alpha of the mass-proportional damping C = alpha M [1/s] (thesis eq
+            3.12), >= 0.
+        local_damping: Cundall's local non-viscous damping d in [0, 1) [-] (quasi-static
+            phases).
+        bbar: Q4 with the mean-dilatation B-bar (True, no volumetric locking) or full 2x2
+            integration (False, as dolfinx Q1).
+        plastic_strain_cap: a Gauss point whose accumulated plastic strain reaches it
+            responds elastically from then on [-] (None: no cap): the element has handed its
+            failure to its failed interfaces and slides on them instead of flowing further
+            (without it a psi = 0 element under the footing edge of H2 flowed to a plastic
+            strain of 43 at one Gauss point and turned inside out at t = 0.06 s).
+        split_every: check the interfaces for failure and split every N steps (0: never).
+        split_plastic_strain: interfaces also fail where the adjacent Gauss points' mean
+            plastic strain exceeds it [-] (None: only the strength criteria, see ``ties``).
+        contact: contact detection and forces; None: on when ``hybrid.discrete.contact``
+            exists and there are several bodies or splitting.
+        contact_refresh: steps between contact-pair searches (also after each splitting
+            check).
+        margin_factor: search margin of the pair search, this times the largest speed times
+            ``contact_refresh`` dt [-].
+        contact_bounds: (xmin, ymin, xmax, ymax) [m] of the contact grid; an element leaving
+            them stops the run with a ValueError (None: the bounds of the elements).
+        contact_hinges: also take as contact candidates the element pairs still tied at a
+            single vertex (``find_contact_pairs(..., hinges=True)``): after a partial split
+            two elements whose common edge failed rotate about that vertex and otherwise
+            interpenetrate without any contact force, then repel with a deep overlap when the
+            last tie fails (the retaining-wall collapse gained ~1 600 kJ/m through the normal
+            contact forces by t = 0.2 s without it, 0.006 kJ/m with it).
+    """
+
+    dt: float | None = None
+    safety: float = 0.5
+    mass_damping: float = 0.0
+    local_damping: float = 0.0
+    bbar: bool = True
+    plastic_strain_cap: float | None = None
+    split_every: int = 0
+    split_plastic_strain: float | None = None
+    contact: bool | None = None
+    contact_refresh: int = 10
+    margin_factor: float = 2.0
+    contact_bounds: tuple[float, float, float, float] | None = None
+    contact_hinges: bool = True
+
+    def __post_init__(self) -> None:
+        """Refuse bad values with the option's name and the fix."""
+        if self.dt is not None and not (math.isfinite(self.dt) and self.dt > 0.0):
+            raise ValueError(f"dt = {self.dt!r}: must be a finite positive number [s] (None: "
+                             "safety x the stable time step)")
+        if not 0.0 < self.safety <= 1.0:
+            raise ValueError(f"safety = {self.safety!r}: must be in (0, 1] (a fraction of the "
+                             "stable time step)")
+        if not (math.isfinite(self.mass_damping) and self.mass_damping >= 0.0):
+            raise ValueError(f"mass_damping = {self.mass_damping!r}: alpha must be >= 0 [1/s]")
+        if not 0.0 <= self.local_damping < 1.0:
+            raise ValueError(f"local_damping = {self.local_damping!r}: must be in [0, 1)")
+        if self.plastic_strain_cap is not None and not self.plastic_strain_cap > 0.0:
+            raise ValueError(f"plastic_strain_cap = {self.plastic_strain_cap!r}: must be > 0 "
+                             "(None: no cap)")
+        if self.split_plastic_strain is not None and not self.split_plastic_strain > 0.0:
+            raise ValueError(f"split_plastic_strain = {self.split_plastic_strain!r}: must be "
+                             "> 0 (None: strength criteria only)")
+        for name in ("split_every", "contact_refresh"):
+            val = getattr(self, name)
+            if int(val) != val or val < 0:
+                raise ValueError(f"{name} = {val!r}: must be an integer >= 0")
+        if not (math.isfinite(self.margin_factor) and self.margin_factor >= 0.0):
+            raise ValueError(f"margin_factor = {self.margin_factor!r}: must be >= 0")
+        b = self.contact_bounds
+        if b is not None and not (len(b) == 4 and b[0] < b[2] and b[1] < b[3]):
+            raise ValueError(f"contact_bounds = {b!r}: must be (xmin, ymin, xmax, ymax) with "
+                             "xmin < xmax and ymin < ymax [m]")
+
+
+@dataclass
+class RunResult:
+    """What :meth:`ExplicitSolver.run` returns: why it stopped, counts and the energy history.
+
+    ``history`` holds one entry per check (and one at the end) under the keys
+    ``HISTORY_KEYS``: time [s], step, the :class:`EnergyLedger` terms [kJ/m] and the residual
+    since the start of this run [kJ/m].
+    """
+
+    stop_reason: str  # "time", "steps", "rest" or "callback"
+    steps: int  # steps taken by this run
+    time: float  # state time at the end [s]
+    dt: float  # time step [s]
+    wall_time: float  # [s]
+    element_steps_per_s: float
+    n_split: int  # interfaces broken during this run
+    history: dict[str, np.ndarray] = field(default_factory=dict)  # energy ledger per check
+
+
+class Observer:
+    """Something that watches a solver for its lifetime (outputs, progress): no-op hooks.
+
+    Observers only read the state; they must not change it. ``files`` lists what the observer
+    has written.
+    """
+
+    files: tuple[Path, ...] | list[Path] = ()
+
+    def run_started(self, solver: ExplicitSolver, total_steps: int | None) -> None:
+        """A run begins (``total_steps``: its step count when known)."""
+
+    def stepped(self, solver: ExplicitSolver) -> None:
+        """A step is done (not called for the step at which a run stopped at its check)."""
+
+    def checked(self, solver: ExplicitSolver, ledger: EnergyLedger) -> None:
+        """A check of the run (every ``check_every`` steps and at the last step)."""
+
+    def run_ended(self, solver: ExplicitSolver, result: RunResult | None) -> None:
+        """A run ended (``result`` None when it raised)."""
+
+    def close(self, solver: ExplicitSolver, final: bool) -> None:
+        """The solver is closed (``final``: normally, not after an error)."""
+
+
+class ExplicitSolver:
+    """Explicit dynamics of a :class:`DiscreteState` (advanced in place) with fixed options.
+
+    Construction resolves and checks dt, decides on contact and owns the step's work arrays
+    (no allocation per step). :meth:`step` advances one step; :meth:`run` loops. Observers
+    (``hybrid.discrete.outputs``) are attached for the solver's lifetime, so that one time
+    series covers all its runs; use the solver in a ``with`` block or call :meth:`close`.
+    """
+
+    def __init__(self, state: DiscreteState, options: RunOptions | None = None, *,
+                 observers: Iterable[Observer] = ()) -> None:
+        """Set up the solver of ``state`` (see the class docstring)."""
+        self.state = state
+        self.options = o = options if options is not None else RunOptions()
+        self.observers: list[Observer] = list(observers)
+        contact = o.contact
+        if contact is None:
+            contact = has_contact_module() and (o.split_every > 0 or _n_bodies(state) > 1)
+        self.contact = bool(contact)
+        if self.contact:
+            try:
+                from hybrid.discrete import contact as cmod
+                from hybrid.discrete.contact.forces import ContactBuffers, add_contact_forces
+            except ImportError as err:
+                raise ValueError("contact=True but hybrid.discrete.contact is not available"
+                                 ) from err
+            self._cmod = cmod
+            self._add_contact_forces = add_contact_forces
+        dt = o.dt
+        if dt is None:
+            dt = state.dt if state.dt > 0.0 else o.safety * integrate.stable_time_step(
+                state, contact=self.contact)
+        integrate.check_dt(state, float(dt), contact=self.contact)
+        self.dt = float(dt)
+        state.dt = self.dt
+        if not state.primed:
+            integrate.prime(state)
+        self.steps = 0  # steps over the solver's lifetime
+        self.n_split = 0  # interfaces broken over the solver's lifetime
+        self.active_contacts = 0  # contact pairs in contact at the last step with pairs
+        self._cap = math.inf if o.plastic_strain_cap is None else float(o.plastic_strain_cap)
+        self._split_limit = (math.inf if o.split_plastic_strain is None
+                             else o.split_plastic_strain)
+        self._split_every = int(o.split_every)
+        self._refresh = max(int(o.contact_refresh), 1)
+        self._closed = False
+        # work arrays of the step, reused: contact force, its damping and tangential parts and
+        # the start-of-step velocity (for the ledger), the contact loop's buffers
+        self._cforce = np.zeros_like(state.x) if self.contact else None
+        self._split = np.zeros((2, *state.x.shape)) if self.contact else None
+        self._v_start = np.zeros_like(state.v) if self.contact else None
+        self._cbuf = ContactBuffers() if self.contact else None
+        self._begin()
+
+    # -- one step ----------------------------------------------------------------------------
+    def _begin(self) -> None:
+        """Read what may have changed since the last run: loads, supports, masses."""
+        st = self.state
+        self._external = bool(np.any(st.external_force))
+        mass_tot = float(np.sum(st.mass))
+        # floor of the contact search margin [m]
+        self._margin_floor = 1e-6 * math.sqrt(mass_tot / float(st.density.max()))
+        self._cmass = (self._cmod.rigid_contact_mass(st.mass, st.fixed, st.element_nodes)
+                       if self.contact else None)
+
+    def step(self) -> None:
+        """Advance the state by one step: contacts, forces, update, ledger, splitting."""
+        st, o, dt = self.state, self.options, self.dt
+        n_pairs = 0
+        if self.contact:
+            cmod = self._cmod
+            # refresh on schedule, and after each splitting check (new free edges)
+            if st.step % self._refresh == 0 or (self._split_every
+                                                and st.step % self._split_every == 0):
+                if not (np.isfinite(st.x).all() and np.isfinite(st.v).all()):
+                    _raise_non_finite(st, dt)
+                vmax = float(np.max(np.abs(st.v))) if st.n_nodes else 0.0
+                margin = o.margin_factor * vmax * self._refresh * dt
+                margin = max(margin, self._margin_floor)
+                pairs = cmod.find_contact_pairs(st.x, st.element_nodes, st.node_group, margin,
+                                                o.contact_bounds, hinges=o.contact_hinges)
+                st.contact_shear = cmod.carry_contact_history(st.contact_pairs,
+                                                              st.contact_shear, pairs)
+                st.contact_pairs = pairs
+            self._cforce[:] = 0.0
+            n_pairs = st.contact_pairs.shape[0]
+            if n_pairs:
+                self._split[:] = 0.0
+                self._v_start[:] = st.v
+                self.active_contacts = self._add_contact_forces(  # unchecked: state, dt and
+                    st.x, st.v, self._cmass, st.element_nodes,  # pairs checked already
+                    st.element_material, st.contact_table, st.contact_pairs, st.contact_shear,
+                    dt, self._cforce, self._split, self._cbuf)[0]
+        integrate.step(st, dt, mass_damping=o.mass_damping, local_damping=o.local_damping,
+                       contact_force=self._cforce, bbar=o.bbar, external=self._external,
+                       plastic_strain_cap=self._cap)
+        if n_pairs:
+            # minus the work of the tangential / damping / elastic normal forces on the
+            # mid-step velocity
+            cmod = self._cmod
+            w_t = cmod.mid_step_work(self._split[1], self._v_start, st.v, dt)
+            w_d = cmod.mid_step_work(self._split[0], self._v_start, st.v, dt)
+            w_all = cmod.mid_step_work(self._cforce, self._v_start, st.v, dt)
+            st.ledger[LEDGER_FRICTION] -= w_t
+            st.ledger[LEDGER_CONTACT_DAMPING] -= w_d
+            st.ledger[LEDGER_CONTACT_NORMAL] -= w_all - w_t - w_d
+        if self._split_every and st.step % self._split_every == 0:
+            modes = ties.check_interfaces(st, self._split_limit)
+            if modes.any():
+                self.n_split += ties.split_interfaces(st, modes > 0)
+        self.steps += 1
+
+    def ledger(self) -> EnergyLedger:
+        """The energy ledger of the state now."""
+        return EnergyLedger.measure(self.state)
+
+    # -- runs --------------------------------------------------------------------------------
+    def run(self, *, until_time: float | None = None, max_steps: int | None = None,
+            until_rest: float | None = None, check_every: int = 100,
+            rest_min_steps: int = 200,
+            on_check: Callable[[DiscreteState], bool | None] | None = None) -> RunResult:
+        """Advance the state until a time, a step count or rest, whichever comes first.
+
+        Args:
+            until_time: absolute state time to reach [s].
+            max_steps: steps of this run at most.
+            until_rest: stop when E_kin <= until_rest * max(peak E_kin of this run, E_strain)
+                (checked every ``check_every`` steps after ``rest_min_steps``) [-].
+            check_every: steps between checks: energy ledger, instability monitor, history,
+                rest, observers' ``checked`` and ``on_check``.
+            rest_min_steps: steps of this run before rest may stop it.
+            on_check: called with the state at every check; it may change loads
+                (``external_force``, load histories) and returns True to stop the run (stop
+                reason "callback"). Loads are read as non-zero when the run starts.
+
+        Returns:
+            Why and where the run stopped, with the ledger history of its checks.
+
+        Raises:
+            ValueError: no stopping criterion, or a bad one.
+            RuntimeError: the run turned unstable (non-finite numbers, energy growing
+                without a source, elements distorted below the stable step).
+        """
+        if until_time is None and max_steps is None and until_rest is None:
+            raise ValueError("give at least one of until_time, max_steps, until_rest")
+        if max_steps is not None and (int(max_steps) != max_steps or max_steps < 0):
+            raise ValueError(f"max_steps = {max_steps!r}: must be an integer >= 0")
+        if until_rest is not None and not until_rest > 0.0:
+            raise ValueError(f"until_rest = {until_rest!r}: must be a positive energy ratio")
+        for name, val in (("check_every", check_every), ("rest_min_steps", rest_min_steps)):
+            if int(val) != val or val < 0:
+                raise ValueError(f"{name} = {val!r}: must be an integer >= 0")
+        if self._closed:
+            raise RuntimeError("this solver is closed: make a new ExplicitSolver")
+        check_every = max(int(check_every), 1)
+        st, dt = self.state, self.dt
+        integrate.check_dt(st, dt, contact=self.contact)
+        if not st.primed:
+            integrate.prime(st)
+        self._begin()
+
+        n_total = max_steps if max_steps is not None else None
+        if until_time is not None:
+            n_time = max(int(math.ceil((until_time - st.time) / dt - 1e-9)), 0)
+            n_total = n_time if n_total is None else min(n_total, n_time)
+        led0 = EnergyLedger.measure(st)
+        monitor = _Monitor(st, led0, dt)
+        hist: dict[str, list[float]] = {k: [] for k in HISTORY_KEYS}
+        peak_ke = led0.kinetic
+        split0 = self.n_split
+        stop = "steps"
+        k = 0
+        observers = self.observers
+        for obs in observers:
+            obs.run_started(self, n_total)
+        t0 = _time.perf_counter()
+        try:
+            while True:
+                if n_total is not None and k >= n_total:
+                    stop = "time" if (until_time is not None
+                                      and st.time >= until_time - 0.5 * dt) else "steps"
+                    break
+                self.step()
+                k += 1
+                if k % check_every == 0 or (n_total is not None and k == n_total):
+                    led = EnergyLedger.measure(st)
+                    monitor.check(st, led)
+                    _check_distortion(st, dt, self.contact)
+                    monitor.e_prev = led.mechanical
+                    peak_ke = max(peak_ke, led.kinetic)
+                    _record(hist, st, led, led0)
+                    for obs in observers:
+                        obs.checked(self, led)
+                    if (until_rest is not None and k >= rest_min_steps
+                            and led.kinetic <= until_rest * max(peak_ke, led.strain)):
+                        stop = "rest"
+                        break
+                    if on_check is not None and on_check(st):
+                        stop = "callback"
+                        break
+                for obs in observers:
+                    obs.stepped(self)
+        except BaseException:
+            for obs in observers:
+                obs.run_ended(self, None)
+            raise
+        wall = _time.perf_counter() - t0
+        if not hist["step"] or hist["step"][-1] != st.step:
+            led = EnergyLedger.measure(st)
+            monitor.check(st, led)
+            _record(hist, st, led, led0)
+        log.info("discrete run: %d steps, stop=%s, %.3g s wall", k, stop, wall)
+        result = RunResult(stop_reason=stop, steps=k, time=st.time, dt=dt, wall_time=wall,
+                           element_steps_per_s=k * st.n_elements / wall if wall > 0 else 0.0,
+                           n_split=self.n_split - split0,
+                           history={kk: np.asarray(v) for kk, v in hist.items()})
+        for obs in observers:
+            obs.run_ended(self, result)
+        return result
+
+    # -- lifetime ----------------------------------------------------------------------------
+    @property
+    def files(self) -> list[Path]:
+        """Files the observers have written, in the order they were attached."""
+        return [f for obs in self.observers for f in obs.files]
+
+    def close(self) -> list[Path]:
+        """Close the observers (final frames, GIF, ...); returns :attr:`files`."""
+        self._close(final=True)
+        return self.files
+
+    def _close(self, final: bool) -> None:
+        if not self._closed:
+            self._closed = True
+            for obs in self.observers:
+                obs.close(self, final)
+
+    def __enter__(self) -> ExplicitSolver:
+        """The solver itself."""
+        return self
+
+    def __exit__(self, exc_type, exc, tb) -> None:
+        """Close; after an error without writing a final state."""
+        self._close(final=exc_type is None)
+
+
+def run(state: DiscreteState, *, until_time: float | None = None,
+        max_steps: int | None = None, until_rest: float | None = None,
+        check_every: int = 100, rest_min_steps: int = 200,
+        on_check: Callable[[DiscreteState], bool | None] | None = None,
+        observers: Iterable[Observer] = (), **options) -> RunResult:
+    """One run of a fresh :class:`ExplicitSolver` (``options``: :class:`RunOptions` fields).
+
+    A convenience for single runs: the solver is closed at the end.
+    """
+    with ExplicitSolver(state, RunOptions(**options), observers=observers) as solver:
+        return solver.run(until_time=until_time, max_steps=max_steps, until_rest=until_rest,
+                          check_every=check_every, rest_min_steps=rest_min_steps,
+                          on_check=on_check)
+
+
+def _n_bodies(state: DiscreteState) -> int:
+    """Connected components of the graph "element - intact interface - element"."""
+    ie = state.interface_elements[state.interface_intact]
+    label = np.arange(state.n_elements)
+    if ie.shape[0] == 0:
+        return int(label.size)
+    a, b = ie[:, 0], ie[:, 1]
+    while True:  # min-label propagation with pointer jumping
+        new = label.copy()
+        m = np.minimum(label[a], label[b])
+        np.minimum.at(new, a, m)
+        np.minimum.at(new, b, m)
+        new = new[new]
+        if np.array_equal(new, label):
+            break
+        label = new
+    return int(np.unique(label).size)
+
+
+def _record(hist: dict[str, list[float]], state: DiscreteState, led: EnergyLedger,
+            led0: EnergyLedger) -> None:
+    hist["time"].append(state.time)
+    hist["step"].append(float(state.step))
+    for key, val in led.as_dict().items():
+        hist[key].append(val)
+    # relative to the start of this run (the works and dissipations are totals since the
+    # state was made; a continued run starts with them non-zero)
+    hist["residual"].append(led.residual(led0))
+
+
+def _raise_non_finite(state: DiscreteState, dt: float) -> None:
+    raise RuntimeError(
+        f"discrete run unstable at step {state.step} (t = {state.time:.6g} s): non-finite "
+        f"coordinates/velocities/energy. Likely cause: dt = {dt:.4g} s too large for the "
+        "current mesh or contact stiffness (reduce dt or the safety factor), or an element "
+        "inverted under a too large deformation.")
+
+
+class _Monitor:
+    """Stops an unstable run: non-finite numbers, or runaway mechanical energy.
+
+    Runaway: over 10x since the last check and above twice its sources.
+    """
+
+    def __init__(self, state: DiscreteState, led0: EnergyLedger, dt: float) -> None:
+        """Sources and tolerance of the run starting with ``led0``."""
+        self.e_start = led0.mechanical
+        self.src0 = led0.work_loads + led0.work_supports
+        mass_tot = float(np.sum(state.mass))
+        cmax = float(np.max(np.sqrt((state.material_table[:, 0]
+                                     + 4.0 * state.material_table[:, 1] / 3.0)
+                                    / state.density)))
+        self.tol_e = 1e-12 * mass_tot * cmax**2 + 1e-6 * abs(self.e_start)
+        self.e_prev = self.e_start
+        self.dt = dt
+
+    def check(self, state: DiscreteState, led: EnergyLedger) -> None:
+        """Raise RuntimeError if the state with ledger ``led`` is unstable."""
+        e_now = led.mechanical
+        if not (np.isfinite(e_now) and np.isfinite(state.x).all()
+                and np.isfinite(state.v).all()):
+            _raise_non_finite(state, self.dt)
+        supply = (self.e_start + abs(led.work_loads - self.src0) + abs(led.work_supports)
+                  + abs(self.src0))
+        if e_now > 2.0 * supply + self.tol_e and e_now > 10.0 * self.e_prev + self.tol_e:
+            raise RuntimeError(
+                f"discrete run unstable at step {state.step} (t = {state.time:.6g} s): "
+                f"mechanical energy {e_now:.4g} kJ/m grew over 10x since the last check and "
+                f"exceeds twice its sources ({supply:.4g} kJ/m). Likely cause: dt = "
+                f"{self.dt:.4g} s too large (reduce dt or the safety factor) or a too stiff "
+                "contact.")
+
+
+def _check_distortion(state: DiscreteState, dt: float, contact: bool) -> None:
+    """Stop when the elements have distorted below the run's stable time step.
+
+    The run would otherwise end in NaN a few steps later; the message names the remedies.
+    """
+    crit = integrate.stable_time_step(state, contact=contact)
+    if dt > crit:
+        raise RuntimeError(
+            f"discrete run stopped at step {state.step} (t = {state.time:.6g} s): the elements "
+            f"have distorted so much that the stable time step fell to {crit:.4g} s, below the "
+            f"run's dt = {dt:.4g} s (large plastic flow pancakes an element). Continue with a "
+            "smaller dt (RunOptions(dt=...)), let the flowing region split "
+            "(split_plastic_strain) or stop the flow inside elements beyond a plastic strain "
+            "(plastic_strain_cap, e.g. 0.3).")
