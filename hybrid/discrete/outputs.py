@@ -192,7 +192,8 @@ class ProgressBar(Observer):
     def checked(self, solver: ExplicitSolver, ledger: EnergyLedger) -> None:
         """Advance the bar to the steps done."""
         done = solver.steps - self._first
-        self._bar.update(done - self._shown)
+        if self._bar is not None:
+            self._bar.update(done - self._shown)
         self._shown = done
 
     def run_ended(self, solver: ExplicitSolver, result: RunResult | None) -> None:
@@ -220,11 +221,11 @@ def standard_outputs(out_dir: str | Path | None, *, output_every: int = 0,
     if (output_every or checkpoint_every) and out_dir is None:
         raise ValueError("output_every / checkpoint_every need out_dir")
     obs: list[Observer] = []
-    if output_every:
+    if out_dir is not None and output_every:
         obs.append(XdmfSeries(out_dir, output_every))
         if snapshots:
             obs.append(Frames(out_dir, output_every))
-    if checkpoint_every:
+    if out_dir is not None and checkpoint_every:
         obs.append(Checkpoints(out_dir, checkpoint_every))
     if progress:
         obs.append(ProgressBar())

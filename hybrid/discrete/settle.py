@@ -15,8 +15,10 @@ __all__ = ["SettleReport", "residual_force", "settle"]
 
 
 def residual_force(disc: DiscreteState) -> np.ndarray:
-    """Out-of-balance force of every tie group's free components (n_groups, 2) [kN/m]:
-    gravity + external - internal, summed over the group (zero in equilibrium)."""
+    """Out-of-balance force of every tie group's free components (n_groups, 2) [kN/m].
+
+    Gravity + external - internal, summed over the group (zero in equilibrium).
+    """
     prime(disc)
     f = disc.external_force - disc.internal_force + disc.mass[:, None] * disc.gravity[None, :]
     per_group = np.zeros((disc.n_groups, 2))
@@ -46,9 +48,11 @@ class SettleReport:
 
 def settle(handover: Handover, *, steps: int = 2000, mass_damping: float = 0.0,
            local_damping: float = 0.7) -> SettleReport:
-    """Tied settle of the discrete start: ``steps`` explicit steps with mass damping
-    ``mass_damping`` [1/s] and local damping ``local_damping`` [-], no splitting, no
-    contact."""
+    """Tied settle of the discrete start.
+
+    ``steps`` explicit steps with mass damping ``mass_damping`` [1/s] and local damping
+    ``local_damping`` [-], no splitting, no contact.
+    """
     disc = handover.discrete
     x0, s0 = disc.x.copy(), disc.stress.copy()
     r0 = float(np.linalg.norm(residual_force(disc)))

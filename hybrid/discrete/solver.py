@@ -29,6 +29,7 @@ import time as _time
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field, fields
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -233,10 +234,12 @@ class ExplicitSolver:
         self._closed = False
         # work arrays of the step, reused: contact force, its damping and tangential parts and
         # the start-of-step velocity (for the ledger), the contact loop's buffers
-        self._cforce = np.zeros_like(state.x) if self.contact else None
-        self._split = np.zeros((2, *state.x.shape)) if self.contact else None
-        self._v_start = np.zeros_like(state.v) if self.contact else None
-        self._cbuf = ContactBuffers() if self.contact else None
+        # (empty without contact)
+        n_work = state.x.shape[0] if self.contact else 0
+        self._cforce: np.ndarray = np.zeros((n_work, 2))
+        self._split: np.ndarray = np.zeros((2, n_work, 2))
+        self._v_start: np.ndarray = np.zeros((n_work, 2))
+        self._cbuf: Any = ContactBuffers() if self.contact else None
         self._begin()
 
     # -- one step ----------------------------------------------------------------------------
@@ -247,8 +250,9 @@ class ExplicitSolver:
         mass_tot = float(np.sum(st.mass))
         # floor of the contact search margin [m]
         self._margin_floor = 1e-6 * math.sqrt(mass_tot / float(st.density.max()))
-        self._cmass = (self._cmod.rigid_contact_mass(st.mass, st.fixed, st.element_nodes)
-                       if self.contact else None)
+        self._cmass: np.ndarray = (
+            self._cmod.rigid_contact_mass(st.mass, st.fixed, st.element_nodes) if self.contact
+            else np.zeros(0))
 
     def step(self) -> None:
         """Advance the state by one step: contacts, forces, update, ledger, splitting."""
@@ -279,7 +283,8 @@ class ExplicitSolver:
                     st.element_material, st.contact_table, st.contact_pairs, st.contact_shear,
                     dt, self._cforce, self._split, self._cbuf)[0]
         integrate.step(st, dt, mass_damping=o.mass_damping, local_damping=o.local_damping,
-                       contact_force=self._cforce, bbar=o.bbar, external=self._external,
+                       contact_force=self._cforce if self.contact else None, bbar=o.bbar,
+                       external=self._external,
                        plastic_strain_cap=self._cap)
         if n_pairs:
             # minus the work of the tangential / damping / elastic normal forces on the
