@@ -16,6 +16,7 @@ solver writes the final state where it was not written yet, and the GIF.
 
 from __future__ import annotations
 
+import abc
 from pathlib import Path
 
 import numpy as np
@@ -33,8 +34,12 @@ def _check_every(name: str, every: int) -> int:
     return int(every)
 
 
-class _Periodic(Observer):
-    """Writes the state at the solver's first run, every ``every`` steps and at close."""
+class _Periodic(Observer, abc.ABC):
+    """Writes the state at the solver's first run, every ``every`` steps and at close.
+
+    A subclass says how a series starts (``_start``) and how one state is written
+    (``_write``); ``_finish`` closes the series.
+    """
 
     def __init__(self, out_dir: str | Path, every: int) -> None:
         """Files in ``out_dir``, every ``every`` steps of the solver."""
@@ -44,11 +49,13 @@ class _Periodic(Observer):
         self._started = False
         self._last: int | None = None  # state step last written
 
+    @abc.abstractmethod
     def _start(self, state: DiscreteState) -> None:
-        raise NotImplementedError
+        """Open the series (files, folders) for the first state."""
 
+    @abc.abstractmethod
     def _write(self, state: DiscreteState) -> None:
-        raise NotImplementedError
+        """Add ``state`` to the series."""
 
     def _finish(self) -> None:
         """Close the series (after the final state)."""
