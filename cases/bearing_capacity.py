@@ -22,14 +22,14 @@ References
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from hybrid.continuum.plastic import NewtonOptions, PlasticSolver, plateau_rise
 from hybrid.geometry import build_mesh, load_builder
-from hybrid.io import Check, plot_cell_field, write_continuum_xdmf, write_summary
+from hybrid.io import CaseSummary, Check, plot_cell_field, write_continuum_xdmf
 from hybrid.materials import Material
 from hybrid.model import Displacement, Fixed, Model, Roller
 from hybrid.report import plot_load_settlement
@@ -68,7 +68,7 @@ def prandtl(cohesion: float, phi_deg: float) -> float:
     return cohesion * (nq - 1.0) / t
 
 
-def main(out: str | Path = "results/bearing_capacity", **overrides) -> dict:
+def main(out: str | Path = "results/bearing_capacity", **overrides) -> CaseSummary:
     """Rigid smooth strip footing pushed to collapse (C5-C7)."""
     p = Parameters(**overrides)
     out = Path(out)
@@ -108,18 +108,16 @@ def main(out: str | Path = "results/bearing_capacity", **overrides) -> dict:
     state = solver.state()
     # plateau: rise of the pressure over the last fifth of the push, relative to its end value
     rise = plateau_rise(settle, pressure) if limit else 0.0
-    summary = {
-        "case": f"bearing_capacity ({p.case_id})", "out": str(out), "parameters": asdict(p),
+    summary = CaseSummary(f"bearing_capacity ({p.case_id})", out, p, results={
         "cells": state.info["cells"], "dofs": state.info["dofs"],
         "steps": state.info["steps"], "newton_iterations": state.info["newton_iterations"],
         "wall_time_s": state.info["wall_time_s"], "completed": analysis.completed,
         "plateau_rise_last_fifth": rise,
         "curve": {"settlement_m": settle, "pressure_kPa": pressure},
         "residual_histories": [r.residuals for r in solver.history[-3:]],
-        "checks": {"limit_pressure": Check(
-            limit, reference, 0.03 if associated and p.unit_weight == 0 else None, "kPa",
-            "Prandtl c N_c" + ("" if associated else " (psi < phi: reported beside)"))},
-    }
+    }, checks={"limit_pressure": Check(
+        limit, reference, 0.03 if associated and p.unit_weight == 0 else None, "kPa",
+        "Prandtl c N_c" + ("" if associated else " (psi < phi: reported beside)"))})
     write_continuum_xdmf(out / "continuum.xdmf", state)
     plot_cell_field(out / "plastic_strain.png", model.mesh, state.cell_plastic_strain(),
                     title="Equivalent plastic strain at the end", label="plastic strain [-]",
@@ -127,7 +125,7 @@ def main(out: str | Path = "results/bearing_capacity", **overrides) -> dict:
     if state.comm.rank == 0:
         plot_load_settlement(out / "load_settlement.png", settle, pressure,
                              {"Prandtl c N_c": reference}, title=f"{p.case_id}: rigid footing")
-    write_summary(out / "summary.json", summary, state.comm)
+    summary.write(out / "summary.json", state.comm)
     return summary
 
 

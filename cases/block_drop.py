@@ -25,7 +25,7 @@ References
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -34,7 +34,7 @@ from hybrid.discrete.builders import blocks
 from hybrid.discrete.energy import energy_excess, energy_peak_ratio
 from hybrid.discrete.outputs import standard_outputs
 from hybrid.discrete.solver import ExplicitSolver, RunOptions
-from hybrid.io import Check, write_summary
+from hybrid.io import CaseSummary, Check
 from hybrid.materials import GRAVITY, Contact, Material
 from hybrid.report import plot_energy
 
@@ -61,7 +61,7 @@ class Parameters:
     progress: bool = True  # show a progress bar
 
 
-def main(out: str | Path = "results/block_drop", **overrides) -> dict:
+def main(out: str | Path = "results/block_drop", **overrides) -> CaseSummary:
     """A block dropped on two base blocks comes to rest with self-weight stresses (D5)."""
     p = Parameters(**overrides)
     out = Path(out)
@@ -103,13 +103,13 @@ def main(out: str | Path = "results/block_drop", **overrides) -> dict:
     checks["rest_kinetic_ratio"] = Check(
         float(h["kinetic"][-1] / max(h["kinetic"].max(), h["strain"][-1])), 0.0, p.rest, "-",
         "at rest: E_kin / max(peak E_kin, E_strain)")
-    summary = {"case": "block_drop (D5)", "out": str(out), "parameters": asdict(p),
-               "dt": res.dt, "steps": res.steps, "time": res.time,
-               "stop_reason": res.stop_reason, "wall_time": res.wall_time,
-               "energy_peak_over_supply": energy_peak_ratio(h),
-               "n_contact_pairs": int(st.contact_pairs.shape[0]), "checks": checks}
+    summary = CaseSummary("block_drop (D5)", out, p, results={
+        "dt": res.dt, "steps": res.steps, "time": res.time,
+        "stop_reason": res.stop_reason, "wall_time": res.wall_time,
+        "energy_peak_over_supply": energy_peak_ratio(h),
+        "n_contact_pairs": int(st.contact_pairs.shape[0])}, checks=checks)
     plot_energy(out / "energy.png", h)
-    write_summary(out / "summary.json", summary)
+    summary.write(out / "summary.json")
     return summary
 
 

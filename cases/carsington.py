@@ -52,7 +52,7 @@ from __future__ import annotations
 
 import functools
 import time
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from pathlib import Path
 from types import ModuleType
 from typing import Any, NamedTuple
@@ -73,7 +73,7 @@ from hybrid.discrete.solver import ExplicitSolver, RunOptions
 from hybrid.figures import Column, construction_figures, safety_figures
 from hybrid.geometry import MeshData, build_mesh, load_mesh_script
 from hybrid.handover import Region, to_discrete
-from hybrid.io import Check, write_continuum_xdmf, write_summary
+from hybrid.io import CaseSummary, Check, write_continuum_xdmf
 from hybrid.materials import Bond, Contact, Material
 from hybrid.model import Fixed, Model, Roller
 from hybrid.references import SlipCircle
@@ -159,7 +159,7 @@ class ContinuumPhase(NamedTuple):
     solver: PlasticSolver
     state: ContinuumState
     construction: Construction
-    summary: dict[str, Any]
+    summary: CaseSummary
 
 
 def materials(p: Parameters) -> dict[str, Material]:
@@ -245,8 +245,7 @@ def continuum_phase(p: Parameters, out: Path) -> ContinuumPhase:
         return {f"{name}_yielded_fraction": s.yielded_fraction(base_mesh.cells(name))
                 for name in ("yellow_clay", "core")}
 
-    summary: dict[str, Any] = {
-        "case": "carsington", "out": str(out), "parameters": asdict(p),
+    summary = CaseSummary("carsington", out, p, results={
         "mesh": {"cells": comm.allreduce(base_mesh.num_owned_cells),
                  "cell_type": base_mesh.cell_type, "dofs": state.info["dofs"],
                  "groups": {name: comm.allreduce(len(base_mesh.cells(name)))
@@ -260,14 +259,14 @@ def continuum_phase(p: Parameters, out: Path) -> ContinuumPhase:
             "max_downstream_displacement_m": state.extreme_displacement(0, largest=True),
             "yielded_cells": comm.allreduce(len(state.yielded_cells())), **yielded(state),
             "newton_iterations": solver.iterations_total, "wall_time_s": construction_time},
-        "figures": [str(f) for f in paths],
-        "checks": {
+        "figures": [str(f) for f in paths]},
+        checks={
             "far_field_sigma_v": Check(float(s_far[1]), sv, 0.01, "kPa",
                                        "gamma z below the level ground downstream"),
             "far_field_sigma_h": Check(float(s_far[0]), k0 * sv, 0.01, "kPa",
                                        "K0 gamma z, K0 = nu / (1 - nu)"),
             "max_stress_in_unplaced_lifts": Check(built.max_unplaced_stress, 0.0, 0.0, "kPa",
-                                                  "exactly zero")}}
+                                                  "exactly zero")})
     published, checks = uses_defaults(p, PUBLISHED_PROBLEM), summary["checks"]
     if not built.completed:
         checks["fill_level_at_collapse"] = Check.published(
@@ -290,7 +289,7 @@ def continuum_phase(p: Parameters, out: Path) -> ContinuumPhase:
     return ContinuumPhase(solver, state, built, summary)
 
 
-def main(out: str | Path = "results/carsington", **overrides) -> dict:
+def main(out: str | Path = "results/carsington", **overrides) -> CaseSummary:
     """Carsington Dam Ch. 725: staged construction, factor of safety, post-failure run."""
     p = Parameters(**overrides)
     out = Path(out)
@@ -298,7 +297,7 @@ def main(out: str | Path = "results/carsington", **overrides) -> dict:
     summary = phase.summary
     if p.discrete_time > 0.0:
         summary.update(discrete_phase(phase, p, out))
-    write_summary(out / "summary.json", summary, phase.state.comm)
+    summary.write(out / "summary.json", phase.state.comm)
     return summary
 
 

@@ -24,7 +24,7 @@ References
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -33,7 +33,7 @@ from hybrid.discrete.builders import blocks
 from hybrid.discrete.energy import energy_excess, energy_peak_ratio
 from hybrid.discrete.outputs import standard_outputs
 from hybrid.discrete.solver import ExplicitSolver, RunOptions
-from hybrid.io import Check, write_summary
+from hybrid.io import CaseSummary, Check
 from hybrid.materials import Contact, Material
 from hybrid.report import plot_energy
 
@@ -61,7 +61,7 @@ class Parameters:
     progress: bool = True  # show a progress bar
 
 
-def main(out: str | Path = "results/fe_de_interaction", **overrides) -> dict:
+def main(out: str | Path = "results/fe_de_interaction", **overrides) -> CaseSummary:
     """A loaded block on a tied assembly passes its load q B through the contact (D6)."""
     p = Parameters(**overrides)
     out = Path(out)
@@ -100,14 +100,14 @@ def main(out: str | Path = "results/fe_de_interaction", **overrides) -> dict:
             float(h["kinetic"][-1] / max(h["kinetic"].max(), h["strain"][-1])), 0.0, p.rest,
             "-", "at rest: E_kin / max(peak E_kin, E_strain)"),
     }
-    summary = {"case": "fe_de_interaction (D6)", "out": str(out), "parameters": asdict(p),
-               "dt": res.dt, "steps": res.steps, "time": res.time,
-               "stop_reason": res.stop_reason, "wall_time": res.wall_time,
-               "energy_peak_over_supply": energy_peak_ratio(h),
-               "block_settlement": float(-(st.x - xr)[st.element_nodes[n_ass:], 1].mean()),
-               "checks": checks}
+    summary = CaseSummary("fe_de_interaction (D6)", out, p, results={
+        "dt": res.dt, "steps": res.steps, "time": res.time,
+        "stop_reason": res.stop_reason, "wall_time": res.wall_time,
+        "energy_peak_over_supply": energy_peak_ratio(h),
+        "block_settlement": float(-(st.x - xr)[st.element_nodes[n_ass:], 1].mean())},
+        checks=checks)
     plot_energy(out / "energy.png", h)
-    write_summary(out / "summary.json", summary)
+    summary.write(out / "summary.json")
     return summary
 
 

@@ -22,7 +22,7 @@ References
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -30,7 +30,7 @@ import numpy as np
 from hybrid.case import uses_defaults
 from hybrid.continuum import solve_elastic
 from hybrid.geometry import build_mesh, load_builder
-from hybrid.io import Check, continuum_figures, plot_cell_field, write_continuum_xdmf, write_summary
+from hybrid.io import CaseSummary, Check, continuum_figures, plot_cell_field, write_continuum_xdmf
 from hybrid.materials import Material
 from hybrid.model import Fixed, Model, Pressure, Roller
 from hybrid.references import flamant_centreline
@@ -69,7 +69,7 @@ def solve(p: Parameters, refinement: float = 1.0):
     return solve_elastic(model, gravity=False, degree=p.degree)
 
 
-def main(out: str | Path = "results/flexible_footing", **overrides) -> dict:
+def main(out: str | Path = "results/flexible_footing", **overrides) -> CaseSummary:
     """Flexible strip footing (C3): Flamant stress check and footing-edge settlement."""
     p = Parameters(**overrides)
     out = Path(out)
@@ -93,10 +93,9 @@ def main(out: str | Path = "results/flexible_footing", **overrides) -> dict:
             settlement, THESIS_SETTLEMENT, None, "m",
             "thesis 3.4.2 coarse mesh (reported, not a bar)", applies=thesis),
     }
-    summary = {"case": "flexible_footing (C3)", "out": str(out), "parameters": asdict(p),
-               "cells": state.info["cells"], "dofs": state.info["dofs"],
-               "centreline": {"z": z, "sigma_z": computed, "flamant": reference},
-               "checks": checks}
+    summary = CaseSummary("flexible_footing (C3)", out, p, results={
+        "cells": state.info["cells"], "dofs": state.info["dofs"],
+        "centreline": {"z": z, "sigma_z": computed, "flamant": reference}}, checks=checks)
     if p.convergence:
         fine = solve(p, refinement=2.0)
         s_fine = -float(fine.displacement_at(edge)[0, 1])
@@ -119,7 +118,7 @@ def main(out: str | Path = "results/flexible_footing", **overrides) -> dict:
                      xlabel="vertical stress -sigma_yy [kPa]",
                      ylabel="depth below the footing centre z [m]",
                      title="C3: stress under the centreline")
-    write_summary(out / "summary.json", summary, state.comm)
+    summary.write(out / "summary.json", state.comm)
     return summary
 
 

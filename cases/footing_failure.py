@@ -31,7 +31,7 @@ References
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -43,7 +43,7 @@ from hybrid.discrete.outputs import standard_outputs
 from hybrid.discrete.solver import ExplicitSolver, RunOptions
 from hybrid.geometry import build_mesh, load_builder
 from hybrid.handover import Region, to_discrete
-from hybrid.io import Check, plot_cell_field, write_continuum_xdmf, write_summary
+from hybrid.io import CaseSummary, Check, plot_cell_field, write_continuum_xdmf
 from hybrid.materials import Bond, Contact, Material
 from hybrid.model import Fixed, Model, Pressure, Roller
 from hybrid.references import strip_footing_estimates
@@ -85,7 +85,7 @@ class Parameters:
     interface_tensile_strength: float | None = None  # bond tension [kPa] (None: c cot phi)
 
 
-def main(out: str | Path = "results/footing_failure", **overrides) -> dict:
+def main(out: str | Path = "results/footing_failure", **overrides) -> CaseSummary:
     """Footing failure (H2): continuum to collapse, handover, discrete failure and rest."""
     p = Parameters(**overrides)
     out = Path(out)
@@ -123,16 +123,16 @@ def main(out: str | Path = "results/footing_failure", **overrides) -> dict:
     # 2. handover
     hand = to_discrete(state, region=Region(layers=p.region_layers),
                        freeze_layers=p.freeze_layers)
-    summary: dict = {"case": "footing_failure (H2)", "out": str(out), "parameters": asdict(p),
-                     "continuum": {"cells": state.info["cells"], "steps": state.info["steps"],
-                                   "newton_iterations": state.info["newton_iterations"],
-                                   "wall_time_s": state.info["wall_time_s"],
-                                   "collapse_pressure_kPa": q_handover if collapsed else None,
-                                   "handover_pressure_kPa": q_handover,
-                                   "reached_target": analysis.completed,
-                                   "curve": curve},
-                     "checks": {f"collapse_vs_{k}": Check(q_handover, v, None, "kPa", k)
-                                for k, v in estimates.items() if collapsed}}
+    summary = CaseSummary("footing_failure (H2)", out, p, results={
+        "continuum": {"cells": state.info["cells"], "steps": state.info["steps"],
+                      "newton_iterations": state.info["newton_iterations"],
+                      "wall_time_s": state.info["wall_time_s"],
+                      "collapse_pressure_kPa": q_handover if collapsed else None,
+                      "handover_pressure_kPa": q_handover,
+                      "reached_target": analysis.completed,
+                      "curve": curve}},
+        checks={f"collapse_vs_{k}": Check(q_handover, v, None, "kPa", k)
+                for k, v in estimates.items() if collapsed})
     write_continuum_xdmf(out / "continuum.xdmf", state)
     plot_cell_field(out / "handover_plastic_strain.png", model.mesh,
                     state.cell_plastic_strain(), title="Plastic strain at handover",
@@ -218,7 +218,7 @@ def main(out: str | Path = "results/footing_failure", **overrides) -> dict:
                                          "at rest: E_kin / max(peak E_kin, E_strain)")
     checks["elements_conserved"] = Check(float(disc.n_elements), float(n0), 0.0)
     checks["mass_conserved"] = Check(float(disc.mass.sum()), mass0, 1e-12, "t/m")
-    write_summary(out / "summary.json", summary)
+    summary.write(out / "summary.json")
     sd, qd = np.array(curve_discrete).T if curve_discrete else (np.zeros(0), np.zeros(0))
     sc, qc = np.array(curve).T
     plot_load_settlement(out / "load_settlement.png", sc, qc, estimates, label="continuum",

@@ -24,7 +24,7 @@ References
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -32,7 +32,7 @@ import numpy as np
 from hybrid.discrete import integrate, rectangle
 from hybrid.discrete.outputs import standard_outputs
 from hybrid.discrete.solver import ExplicitSolver, RunOptions
-from hybrid.io import Check, save_figure, write_summary
+from hybrid.io import CaseSummary, Check, save_figure
 from hybrid.materials import GRAVITY, Material
 from hybrid.report import plot_energy
 
@@ -72,7 +72,7 @@ def _plot_velocity(path: Path, t: np.ndarray, v: np.ndarray, v_exact: np.ndarray
     return save_figure(fig, path)
 
 
-def main(out: str | Path = "results/free_fall", **overrides) -> dict:
+def main(out: str | Path = "results/free_fall", **overrides) -> CaseSummary:
     """Free fall of a tied Q4 group (D1) and its terminal velocity under mass damping (D2)."""
     p = Parameters(**overrides)
     out = Path(out)
@@ -124,13 +124,12 @@ def main(out: str | Path = "results/free_fall", **overrides) -> dict:
             float(np.max(np.abs(v_rec - v_exact))) / v_term, 0.0, 5e-3, "-",
             "max |v - (g/alpha)(1 - exp(-alpha (t + dt/2)))| / (g/alpha) over the run"),
     }
-    summary = {"case": "free_fall (D1, D2)", "out": str(out), "parameters": asdict(p),
-               "dt": dt, "steps": res.steps, "stop_reason": res.stop_reason,
-               "wall_time": res.wall_time,
-               "checks": checks}
+    summary = CaseSummary("free_fall (D1, D2)", out, p, results={
+        "dt": dt, "steps": res.steps, "stop_reason": res.stop_reason,
+        "wall_time": res.wall_time}, checks=checks)
     plot_energy(out / "energy.png", res.history)
     _plot_velocity(out / "velocity.png", t_rec, v_rec, v_exact, v_term)
-    write_summary(out / "summary.json", summary)
+    summary.write(out / "summary.json")
     return summary
 
 

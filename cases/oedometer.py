@@ -18,14 +18,14 @@ References
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from hybrid.continuum import solve_elastic
 from hybrid.geometry import build_mesh, load_builder
-from hybrid.io import Check, continuum_figures, write_summary
+from hybrid.io import CaseSummary, Check, continuum_figures
 from hybrid.materials import Material
 from hybrid.model import Model, Roller
 from hybrid.references import oedometer_settlement, oedometer_stress
@@ -47,7 +47,7 @@ class Parameters:
     degree: int = 2  # displacement order (1 or 2)
 
 
-def main(out: str | Path = "results/oedometer", **overrides) -> dict:
+def main(out: str | Path = "results/oedometer", **overrides) -> CaseSummary:
     """Confined column under gravity (C2): sigma_v = -gamma z, sigma_h = K0 sigma_v."""
     p = Parameters(**overrides)
     out = Path(out)
@@ -74,11 +74,11 @@ def main(out: str | Path = "results/oedometer", **overrides) -> dict:
     checks["settlement_top"] = Check(settlement,
                                      oedometer_settlement(p.unit_weight, p.height, p.E, p.nu),
                                      0.005, "m", "gamma H^2 / (2 M)")
-    summary = {"case": "oedometer (C2)", "out": str(out), "parameters": asdict(p),
-               "cells": state.info["cells"], "dofs": state.info["dofs"],
-               "profile": {"z": z, "sigma_v": s[:, 1], "sigma_h": s[:, 0],
-                           "sigma_v_reference": sv_ref, "sigma_h_reference": sh_ref},
-               "checks": checks}
+    summary = CaseSummary("oedometer (C2)", out, p, results={
+        "cells": state.info["cells"], "dofs": state.info["dofs"],
+        "profile": {"z": z, "sigma_v": s[:, 1], "sigma_h": s[:, 0],
+                    "sigma_v_reference": sv_ref, "sigma_h_reference": sh_ref}},
+        checks=checks)
     continuum_figures(out, state)
     if state.comm.rank == 0:
         plot_profile(out / "stress_profile.png", z,
@@ -86,7 +86,7 @@ def main(out: str | Path = "results/oedometer", **overrides) -> dict:
                       "hybrid sigma_v": (-s[:, 1], "o"), "hybrid sigma_h": (-s[:, 0], "s")},
                      xlabel="compressive stress [kPa]",
                      title="C2: confined column under gravity")
-    write_summary(out / "summary.json", summary, state.comm)
+    summary.write(out / "summary.json", state.comm)
     return summary
 
 

@@ -23,14 +23,14 @@ References
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from hybrid.continuum.plastic import PlasticSolver
 from hybrid.geometry import build_mesh, load_builder
-from hybrid.io import Check, plot_cell_field, write_continuum_xdmf, write_summary
+from hybrid.io import CaseSummary, Check, plot_cell_field, write_continuum_xdmf
 from hybrid.materials import Material
 from hybrid.model import Displacement, Fixed, Model, Roller
 from hybrid.report import plot_thrust_translation
@@ -64,7 +64,7 @@ def rankine(mode: str, phi: float, gamma: float, height: float) -> tuple[float, 
     return k, 0.5 * k * gamma * height**2
 
 
-def main(out: str | Path = "results/retaining_wall", **overrides) -> dict:
+def main(out: str | Path = "results/retaining_wall", **overrides) -> CaseSummary:
     """Smooth rigid wall translated to the active or passive state (C8)."""
     p = Parameters(**overrides)
     if p.mode not in ("active", "passive"):
@@ -94,17 +94,15 @@ def main(out: str | Path = "results/retaining_wall", **overrides) -> dict:
     k, reference = rankine(p.mode, p.phi, p.unit_weight, p.height)
     bar = 0.05 if p.mode == "active" else 0.10
     state = solver.state()
-    summary = {
-        "case": f"retaining_wall {p.mode} (C8)", "out": str(out), "parameters": asdict(p),
+    summary = CaseSummary(f"retaining_wall {p.mode} (C8)", out, p, results={
         "cells": state.info["cells"], "steps": state.info["steps"],
         "newton_iterations": state.info["newton_iterations"],
         "wall_time_s": state.info["wall_time_s"], "completed": analysis.completed,
         "K_rankine": k, "at_rest_thrust_kN_per_m": at_rest,
         "curve": {"translation_m": translation, "thrust_kN_per_m": thrust},
-        "checks": {f"{p.mode}_thrust": Check(float(thrust[-1]), reference,
-                                             None if p.rough_base else bar, "kN/m",
-                                             f"Rankine K = {k:.4g}")},
-    }
+    }, checks={f"{p.mode}_thrust": Check(float(thrust[-1]), reference,
+                                         None if p.rough_base else bar, "kN/m",
+                                         f"Rankine K = {k:.4g}")})
     write_continuum_xdmf(out / "continuum.xdmf", state)
     plot_cell_field(out / f"{p.mode}_plastic_strain.png", model.mesh, state.cell_plastic_strain(),
                     title=f"{p.mode.capitalize()} state: plastic strain",
@@ -113,7 +111,7 @@ def main(out: str | Path = "results/retaining_wall", **overrides) -> dict:
         plot_thrust_translation(out / f"{p.mode}_thrust.png", translation, thrust,
                                 {f"Rankine {p.mode}": reference},
                                 title=f"C8: smooth wall, {p.mode}")
-    write_summary(out / "summary.json", summary, state.comm)
+    summary.write(out / "summary.json", state.comm)
     return summary
 
 

@@ -39,7 +39,7 @@ References
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -51,7 +51,7 @@ from hybrid.discrete.outputs import standard_outputs
 from hybrid.discrete.solver import ExplicitSolver, RunOptions
 from hybrid.geometry import build_mesh, load_builder
 from hybrid.handover import Region, to_discrete
-from hybrid.io import Check, plot_cell_field, write_continuum_xdmf, write_summary
+from hybrid.io import CaseSummary, Check, plot_cell_field, write_continuum_xdmf
 from hybrid.materials import Bond, Contact, Material
 from hybrid.model import Displacement, Fixed, Model, Roller
 from hybrid.report import plot_energy, plot_thrust_translation
@@ -84,7 +84,7 @@ class Parameters:
     progress: bool = True  # progress bar of the discrete runs
 
 
-def main(out: str | Path = "results/retaining_wall_collapse", **overrides) -> dict:
+def main(out: str | Path = "results/retaining_wall_collapse", **overrides) -> CaseSummary:
     """Retaining wall removed: continuum active state, handover, collapse to rest (H3)."""
     p = Parameters(**overrides)
     out = Path(out)
@@ -123,13 +123,12 @@ def main(out: str | Path = "results/retaining_wall_collapse", **overrides) -> di
     half_gh2 = 0.5 * p.unit_weight * p.height**2
     checks = {"active_thrust": Check(thrust[-1], ka * half_gh2, None, "kN/m",
                                      "report: Rankine K_a (rough base: below it, see C8)")}
-    summary: dict = {"case": "retaining_wall_collapse (H3)", "out": str(out),
-                     "parameters": asdict(p),
-                     "continuum": {"cells": state.info["cells"],
-                                   "wall_time_s": state.info["wall_time_s"],
-                                   "at_rest_thrust_kN_per_m": thrust[0],
-                                   "active": {"translation_m": moves, "thrust_kN_per_m": thrust}},
-                     "checks": checks}
+    summary = CaseSummary("retaining_wall_collapse (H3)", out, p, results={
+        "continuum": {"cells": state.info["cells"],
+                      "wall_time_s": state.info["wall_time_s"],
+                      "at_rest_thrust_kN_per_m": thrust[0],
+                      "active": {"translation_m": moves, "thrust_kN_per_m": thrust}}},
+        checks=checks)
     if p.passive_translation > 0.0:
         _, pm, pt = continuum(p.passive_translation)
         kp = 1.0 / ka
@@ -222,7 +221,7 @@ def main(out: str | Path = "results/retaining_wall_collapse", **overrides) -> di
         "final_slope_deg": final_slope(disc, sand_nodes, p.height),
         "energy_peak_over_supply": energy_peak_ratio(h),
     }
-    write_summary(out / "summary.json", summary)
+    summary.write(out / "summary.json")
     plot_energy(out / "energy.png", h)
     plot_configuration(out / "final.png", disc, window=window,
                        title=f"At rest (t = {res.time:.3g} s): run-out {-toe:.3g} m")

@@ -31,7 +31,7 @@ References
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -41,7 +41,7 @@ from hybrid.case import uses_defaults
 from hybrid.continuum.plastic import NewtonOptions, PlasticSolver
 from hybrid.continuum.strength_reduction import StrengthSearch, factor_of_safety
 from hybrid.geometry import build_mesh, load_builder
-from hybrid.io import Check, plot_cell_field, write_continuum_xdmf, write_summary
+from hybrid.io import CaseSummary, Check, plot_cell_field, write_continuum_xdmf
 from hybrid.materials import Material
 from hybrid.model import Fixed, Model, Roller
 from hybrid.references import critical_circle, uniform_soil
@@ -74,7 +74,7 @@ class Parameters:
     newton_max_iterations: int = 25  # Newton iterations per step [-]
 
 
-def main(out: str | Path = "results/slope_fos", **overrides: Any) -> dict:
+def main(out: str | Path = "results/slope_fos", **overrides: Any) -> CaseSummary:
     """Slope factor of safety by strength reduction on each mesh, beside Bishop (C9)."""
     p = Parameters(**overrides)
     out = Path(out)
@@ -121,8 +121,7 @@ def main(out: str | Path = "results/slope_fos", **overrides: Any) -> dict:
         checks["mesh_spread"] = Check((max(F) - min(F)) / min(F), 0.0,
                                       0.02 if published else None, "-",
                                       "(max F - min F) / min F over the meshes")
-    summary = {
-        "case": "slope_fos (C9)", "out": str(out), "parameters": asdict(p),
+    summary = CaseSummary("slope_fos (C9)", out, p, results={
         "factor_of_safety": F[-1], "below_one": runs[-1]["below_one"],
         "mechanism_confirmed": runs[-1]["mechanism_confirmed"],
         "cells": runs[-1]["cells"], "newton_iterations": runs[-1]["newton_iterations"],
@@ -131,8 +130,7 @@ def main(out: str | Path = "results/slope_fos", **overrides: Any) -> dict:
                    "entry-and-exit search, no slip below the rigid base"},
         "published": (f"F = {PUBLISHED_F} ({source})" if published
                       else "no reference for these parameters"),
-        "checks": checks,
-    }
+    }, checks=checks)
     write_continuum_xdmf(out / "continuum.xdmf", state)
     arc = bishop.arc()
 
@@ -160,7 +158,7 @@ def main(out: str | Path = "results/slope_fos", **overrides: Any) -> dict:
                    ylabel="strength reduction factor F [-]", references=refs, more=curves,
                    title="Strength reduction: F against displacement", xscale="log",
                    origin=False)
-    write_summary(out / "summary.json", summary, state.comm)
+    summary.write(out / "summary.json", state.comm)
     return summary
 
 

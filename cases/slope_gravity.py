@@ -20,14 +20,14 @@ References
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from hybrid.continuum import solve_elastic
 from hybrid.geometry import build_mesh, load_builder
-from hybrid.io import Check, continuum_figures, write_continuum_xdmf, write_summary
+from hybrid.io import CaseSummary, Check, continuum_figures, write_continuum_xdmf
 from hybrid.materials import Material
 from hybrid.model import Fixed, Model, Roller
 
@@ -61,7 +61,7 @@ def solve(p: Parameters, refinement: float = 1.0):
     return solve_elastic(model, gravity=True, degree=p.degree)
 
 
-def main(out: str | Path = "results/slope_gravity", **overrides) -> dict:
+def main(out: str | Path = "results/slope_gravity", **overrides) -> CaseSummary:
     """Slope under gravity switch-on (C4): far-field geostatic stresses."""
     p = Parameters(**overrides)
     out = Path(out)
@@ -85,8 +85,8 @@ def main(out: str | Path = "results/slope_gravity", **overrides) -> dict:
                                                 f"gamma z, z = {z[iv]:.2f} m")
         checks[f"sigma_h_{side}_worst"] = Check(float(s[ih, 0]), float(k0 * sv_ref[ih]), 0.02,
                                                 "kPa", f"K0 gamma z, z = {z[ih]:.2f} m")
-    summary = {"case": "slope_gravity (C4)", "out": str(out), "parameters": asdict(p),
-               "K0": k0, "cells": state.info["cells"], "far_field": profiles, "checks": checks}
+    summary = CaseSummary("slope_gravity (C4)", out, p, results={
+        "K0": k0, "cells": state.info["cells"], "far_field": profiles}, checks=checks)
     if p.convergence:
         probe = np.array([[0.5 * (p.flat + crest_x), 0.0], [crest_x, 0.5 * p.height],
                           [p.flat, -5.0]])
@@ -98,7 +98,7 @@ def main(out: str | Path = "results/slope_gravity", **overrides) -> dict:
                                        "max_change_over_max_stress": change}
     write_continuum_xdmf(out / "continuum.xdmf", state)
     continuum_figures(out, state)
-    write_summary(out / "summary.json", summary, state.comm)
+    summary.write(out / "summary.json", state.comm)
     return summary
 
 

@@ -23,14 +23,14 @@ References
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from hybrid.continuum.plastic import PlasticSolver
 from hybrid.geometry import build_mesh, load_builder
-from hybrid.io import Check, plot_cell_field, write_continuum_xdmf, write_summary
+from hybrid.io import CaseSummary, Check, plot_cell_field, write_continuum_xdmf
 from hybrid.materials import Material
 from hybrid.model import Fixed, Model, Roller
 
@@ -63,7 +63,7 @@ def staged_settlement(y_top: float, lifts: int, h: float, gamma: float, M: float
     return u
 
 
-def main(out: str | Path = "results/staged_embankment", **overrides) -> dict:
+def main(out: str | Path = "results/staged_embankment", **overrides) -> CaseSummary:
     """Fill column placed in lifts (C10)."""
     p = Parameters(**overrides)
     out = Path(out)
@@ -104,13 +104,13 @@ def main(out: str | Path = "results/staged_embankment", **overrides) -> dict:
                                            f"1-D staged closed form, y = {tops[iu]:.1f} m"),
         "max_stress_in_unplaced_lifts": Check(leak, 0.0, 0.0, "kPa", "exactly zero"),
     }
-    summary = {"case": "staged_embankment (C10)", "out": str(out), "parameters": asdict(p),
-               "lift_tops_m": tops, "settlement_m": u, "settlement_closed_form_m": u_ref,
-               "checks": checks}
+    summary = CaseSummary("staged_embankment (C10)", out, p, results={
+        "lift_tops_m": tops, "settlement_m": u, "settlement_closed_form_m": u_ref},
+        checks=checks)
     write_continuum_xdmf(out / "continuum.xdmf", state)
     plot_cell_field(out / "settlement.png", model.mesh, state.cell_displacement()[:, 1],
                     title="Settlement at the end of construction", label="u_y [m]")
-    write_summary(out / "summary.json", summary, state.comm)
+    summary.write(out / "summary.json", state.comm)
     return summary
 
 

@@ -32,7 +32,7 @@ References
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -44,7 +44,7 @@ from hybrid.discrete.outputs import standard_outputs
 from hybrid.discrete.solver import ExplicitSolver, RunOptions
 from hybrid.geometry import build_mesh, load_builder
 from hybrid.handover import Region, residual_force, to_discrete
-from hybrid.io import Check, save_figure, write_summary
+from hybrid.io import CaseSummary, Check, save_figure
 from hybrid.materials import GRAVITY, Bond, Contact, Material
 from hybrid.model import Fixed, Model
 from hybrid.report import plot_energy
@@ -127,7 +127,7 @@ def _plot_failures(path: Path, st, modes: np.ndarray, s1: np.ndarray, face: np.n
     return save_figure(fig, path)
 
 
-def main(out: str | Path = "results/toppling", **overrides) -> dict:
+def main(out: str | Path = "results/toppling", **overrides) -> CaseSummary:
     """A leaning face with no-tension interfaces splits, topples and settles (D10)."""
     p = Parameters(**overrides)
     out = Path(out)
@@ -195,24 +195,24 @@ def main(out: str | Path = "results/toppling", **overrides) -> dict:
         "failed_interfaces": Check(float(n_failed), None, None, "-", "report"),
         "face_top_height": Check(top1, None, None, "m", f"report (initially {top0:.3g} m)"),
     }
-    summary = {"case": "toppling (D10)", "out": str(out), "parameters": asdict(p),
-               "dt": res.dt, "steps": res.steps, "time": res.time,
-               "stop_reason": res.stop_reason, "wall_time": res.wall_time,
-               "energy_peak_over_supply": energy_peak_ratio(h),
-               "n_interfaces": int(st.interface_elements.shape[0]),
-               "n_failed": n_failed, "n_failed_tension": int(tension.sum()),
-               "n_failed_shear": int(shear.sum()),
-               "n_failed_shear_s1_tensile": int((fail_s1[shear] > 0.0).sum()),
-               "n_failed_shear_s1_compressive": int((fail_s1[shear] <= 0.0).sum()),
-               "first_failure_time": float(np.nanmin(fail_time)) if n_failed else None,
-               "n_face_pieces": _n_bodies(st) - 1, "face_top_height_initial": top0,
-               "face_top_height_final": top1,
-               "handover_residual_over_face_weight": residual0,
-               "face_lowest_y": float(st.x[face_nodes, 1].min()),  # >= ~0: all on the ground
-               "checks": checks}
+    summary = CaseSummary("toppling (D10)", out, p, results={
+        "dt": res.dt, "steps": res.steps, "time": res.time,
+        "stop_reason": res.stop_reason, "wall_time": res.wall_time,
+        "energy_peak_over_supply": energy_peak_ratio(h),
+        "n_interfaces": int(st.interface_elements.shape[0]),
+        "n_failed": n_failed, "n_failed_tension": int(tension.sum()),
+        "n_failed_shear": int(shear.sum()),
+        "n_failed_shear_s1_tensile": int((fail_s1[shear] > 0.0).sum()),
+        "n_failed_shear_s1_compressive": int((fail_s1[shear] <= 0.0).sum()),
+        "first_failure_time": float(np.nanmin(fail_time)) if n_failed else None,
+        "n_face_pieces": _n_bodies(st) - 1, "face_top_height_initial": top0,
+        "face_top_height_final": top1,
+        "handover_residual_over_face_weight": residual0,
+        "face_lowest_y": float(st.x[face_nodes, 1].min()),  # >= ~0: all on the ground
+    }, checks=checks)
     plot_energy(out / "energy.png", h)
     _plot_failures(out / "failures.png", st, fail_mode, fail_s1, face)
-    write_summary(out / "summary.json", summary)
+    summary.write(out / "summary.json")
     return summary
 
 

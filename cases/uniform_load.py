@@ -19,7 +19,7 @@ References
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -27,7 +27,7 @@ from mpi4py import MPI
 
 from hybrid.continuum import solve_elastic
 from hybrid.geometry import build_mesh, load_builder
-from hybrid.io import Check, continuum_figures, write_continuum_xdmf, write_summary
+from hybrid.io import CaseSummary, Check, continuum_figures, write_continuum_xdmf
 from hybrid.materials import Material
 from hybrid.model import Model, Pressure, Roller
 
@@ -45,7 +45,7 @@ class Parameters:
     degree: int = 1  # displacement order (1 or 2)
 
 
-def main(out: str | Path = "results/uniform_load", **overrides) -> dict:
+def main(out: str | Path = "results/uniform_load", **overrides) -> CaseSummary:
     """Uniform load on a block (C1): uniform uniaxial stress."""
     p = Parameters(**overrides)
     out = Path(out)
@@ -70,11 +70,10 @@ def main(out: str | Path = "results/uniform_load", **overrides) -> dict:
     }
     checks["settlement_top"] = Check(settlement, p.q * (1 - p.nu**2) * p.size / p.E, 1e-6,
                                      "m", "q (1 - nu^2) H / E, plane strain")
-    summary = {"case": "uniform_load (C1)", "out": str(out), "parameters": asdict(p),
-               "checks": checks}
+    summary = CaseSummary("uniform_load (C1)", out, p, checks)
     write_continuum_xdmf(out / "continuum.xdmf", state)
     continuum_figures(out, state)
-    write_summary(out / "summary.json", summary, comm)
+    summary.write(out / "summary.json", comm)
     return summary
 
 

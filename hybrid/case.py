@@ -1,7 +1,8 @@
 """Glue that makes a case script runnable as ``python cases/x.py`` and ``hybrid run``.
 
 A case script defines a dataclass ``Parameters`` (each field documented with its unit) and
-``main(out=..., **overrides) -> dict``; ``--set name=value`` overrides one field.
+``main(out=..., **overrides) -> CaseSummary`` (:class:`hybrid.io.CaseSummary`, also written to
+summary.json); ``--set name=value`` overrides one field.
 """
 
 from __future__ import annotations
@@ -15,6 +16,7 @@ from types import ModuleType
 from typing import Any
 
 from hybrid.errors import StageIncomplete
+from hybrid.io import CaseSummary
 from hybrid.scripts import import_script
 
 __all__ = ["CaseError", "parse_overrides", "load_case", "run_case", "case_arguments",
@@ -103,7 +105,7 @@ def describe(parameters: type) -> str:
     return "\n".join(lines)
 
 
-def run_case(main: Callable[..., dict], parameters: type, argv: Sequence[str] | None = None,
+def run_case(main: Callable[..., CaseSummary], parameters: type, argv: Sequence[str] | None = None,
              name: str | None = None) -> int:
     """Command-line entry of a case script."""
     parser = argparse.ArgumentParser(description=(main.__doc__ or "").strip().split("\n")[0])
@@ -112,9 +114,9 @@ def run_case(main: Callable[..., dict], parameters: type, argv: Sequence[str] | 
     return execute(main, parameters, args, name)
 
 
-def execute(main: Callable[..., dict], parameters: type, args: argparse.Namespace,
+def execute(main: Callable[..., CaseSummary], parameters: type, args: argparse.Namespace,
             name: str | None = None) -> int:
-    """Run ``main`` with parsed options; report where the results are (rank 0).
+    """Run ``main`` with parsed options; print its checks and where the results are (rank 0).
 
     Returns 0, or 3 when an analysis stage did not complete (its message on stderr).
     """
@@ -135,13 +137,14 @@ def execute(main: Callable[..., dict], parameters: type, args: argparse.Namespac
             print(f"stage incomplete: {err}", file=sys.stderr)
         return 3
     if MPI.COMM_WORLD.rank == 0:
-        out = summary.get("out", args.out) if isinstance(summary, dict) else args.out
-        checks = summary.get("checks", {}) if isinstance(summary, dict) else {}
+        out = summary.out if isinstance(summary, CaseSummary) else args.out
+        checks = summary.checks if isinstance(summary, CaseSummary) else {}
         for key, check in checks.items():
             line = f"{key}: {check.computed:.6g} {check.unit}".rstrip()
-            if check.reference is not None:
+            error = check.error  # None without a reference
+            if error is not None:
                 verdict = {None: "reported", True: "pass", False: "FAIL"}[check.passed]
-                line += (f" (reference {check.reference:.6g}, error {100 * check.error:.3g} %, "
+                line += (f" (reference {check.reference:.6g}, error {100 * error:.3g} %, "
                          f"{verdict})")
             print(line)
         print(f"results written to {out}")

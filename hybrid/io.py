@@ -1,4 +1,4 @@
-"""Outputs users open: XDMF for ParaView, PNG plots, summary.json.
+"""Outputs users open: XDMF for ParaView, PNG plots, summary.json (a :class:`CaseSummary`).
 
 Everything that writes a file is collective under MPI and writes from rank 0 where the file is
 not parallel (PNG, JSON).
@@ -6,15 +6,17 @@ not parallel (PNG, JSON).
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
-from dataclasses import asdict, dataclass
+from collections.abc import Iterator, Mapping, MutableMapping
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-__all__ = ["Check", "write_summary", "write_continuum_xdmf", "plot_cell_field",
+__all__ = ["Check", "CaseSummary", "write_summary", "write_continuum_xdmf", "plot_cell_field",
            "gather_cells", "continuum_figures"]
 
 STRESS_NAMES = ("sigma_xx", "sigma_yy", "sigma_zz", "sigma_xy")
@@ -56,6 +58,20 @@ class Check:
         return out
 
     @classmethod
+    def from_dict(cls, data: Mapping[str, Any]) -> Check:
+        """Rebuild a check from :meth:`as_dict`'s form, as read back from summary.json.
+
+        ``error`` and ``passed`` are recomputed; a non-finite number may come as the string
+        JSON holds it in ("nan", "inf").
+        """
+        def number(value: Any) -> Any:
+            return float(value) if isinstance(value, str) else value
+
+        return cls(number(data["computed"]), number(data.get("reference")),
+                   number(data.get("bar")), str(data.get("unit", "")),
+                   str(data.get("source", "")))
+
+    @classmethod
     def published(cls, computed: float, reference: float, bar: float | None, unit: str,
                   source: str, *, applies: bool) -> Check:
         """A comparison with a published value, made only when ``applies``.
@@ -68,8 +84,124 @@ class Check:
         return cls(computed, None, None, unit, f"no reference for these parameters ({source})")
 
 
+# the fields every case summary has, in their place at the top of summary.json
+_COMMON = ("case", "out", "parameters", "checks")
+
+
+@dataclass
+class CaseSummary(MutableMapping[str, Any]):
+    """What a case reports: its name, output folder, parameters and checks, and its own results.
+
+    Its JSON form (:meth:`to_json`, summary.json) is one object: ``case``, ``out``,
+    ``parameters``, then the sections of ``results`` by name, with ``checks`` after the
+    sections given when the summary was made and before those added later. The summary is also
+    a mapping over those same top-level names (``summary["discrete"]``, ``"curve" in summary``,
+    ``summary.update(...)``): a name other than the four fields is a section of ``results``.
+
+    Attributes:
+        case: the case's name and label, e.g. "oedometer (C2)".
+        out: the folder the case wrote its outputs to.
+        parameters: the case's parameters by name (a ``Parameters`` dataclass given here is
+            stored as its dict).
+        checks: computed figures beside their references, by name.
+        results: the case's own sections (counts, curves, the continuum, handover and
+            discrete phases...) by name, in the order they were written.
+        checks_at: how many sections of ``results`` come before ``checks`` in the JSON form
+            (set when the summary is made: the sections given then).
+    """
+
+    case: str
+    out: Path
+    parameters: dict[str, Any]
+    checks: dict[str, Check] = field(default_factory=dict)
+    results: dict[str, Any] = field(default_factory=dict)
+    checks_at: int = field(default=-1, repr=False)
+
+    def __post_init__(self) -> None:
+        """Normalise ``out`` to a path and ``parameters`` to a dict; place the checks.
+
+        Raises:
+            ValueError: a section is named like one of the four fields.
+        """
+        self.out = Path(self.out)
+        if dataclasses.is_dataclass(self.parameters) and not isinstance(self.parameters, type):
+            self.parameters = asdict(self.parameters)
+        if self.checks_at < 0:
+            self.checks_at = len(self.results)
+        clash = [name for name in _COMMON if name in self.results]
+        if clash:
+            raise ValueError(f"{', '.join(clash)}: fields of the summary, not sections")
+
+    def as_dict(self) -> dict[str, Any]:
+        """The summary as one dict in the order of summary.json (values not yet made JSON)."""
+        sections = list(self.results.items())
+        return {"case": self.case, "out": str(self.out), "parameters": self.parameters,
+                **dict(sections[:self.checks_at]), "checks": self.checks,
+                **dict(sections[self.checks_at:])}
+
+    def to_json(self) -> dict[str, Any]:
+        """The JSON form: :meth:`as_dict` with checks, paths and numpy values made plain.
+
+        Non-finite floats become strings ("nan", "inf").
+        """
+        return _jsonable(self.as_dict())
+
+    @classmethod
+    def from_json(cls, data: Mapping[str, Any]) -> CaseSummary:
+        """Rebuild a summary from its JSON form (checks from their dicts)."""
+        missing = [name for name in _COMMON[:3] if name not in data]
+        if missing:
+            raise ValueError(f"not a case summary: no {', '.join(missing)}")
+        names = [name for name in data if name not in _COMMON]
+        order = list(data)
+        before = order[:order.index("checks")] if "checks" in data else order
+        checks = {str(name): c if isinstance(c, Check) else Check.from_dict(c)
+                  for name, c in data.get("checks", {}).items()}
+        return cls(str(data["case"]), Path(data["out"]), dict(data["parameters"]), checks,
+                   {name: data[name] for name in names},
+                   checks_at=sum(name not in _COMMON for name in before))
+
+    @classmethod
+    def read(cls, path: str | Path) -> CaseSummary:
+        """Read a summary.json written by :meth:`write`."""
+        return cls.from_json(json.loads(Path(path).read_text()))
+
+    def write(self, path: str | Path, comm: Any = None) -> Path:
+        """Write the JSON form as indented JSON from rank 0 (every rank: collective)."""
+        return write_summary(path, self, comm)
+
+    def __getitem__(self, key: str) -> Any:
+        """A field by its name ("case", "out", "parameters", "checks") or a section."""
+        if key in _COMMON:
+            return getattr(self, key)
+        return self.results[key]
+
+    def __setitem__(self, key: str, value: Any) -> None:
+        """Set a field by its name, or a section (a new one goes at the end)."""
+        if key == "out":
+            self.out = Path(value)
+        elif key in _COMMON:
+            setattr(self, key, value)
+        else:
+            self.results[key] = value
+
+    def __delitem__(self, key: str) -> None:
+        """Remove a section (the fields stay)."""
+        if key in _COMMON:
+            raise KeyError(f"'{key}' is a field of every case summary; it cannot be removed")
+        del self.results[key]
+
+    def __iter__(self) -> Iterator[str]:
+        """The top-level names in the order of the JSON form."""
+        return iter(self.as_dict())
+
+    def __len__(self) -> int:
+        """The number of top-level names (fields and sections)."""
+        return len(_COMMON) + len(self.results)
+
+
 def _jsonable(value: Any) -> Any:
-    if isinstance(value, Check):
+    if isinstance(value, Check | CaseSummary):
         return _jsonable(value.as_dict())
     if isinstance(value, dict):
         return {str(k): _jsonable(v) for k, v in value.items()}
@@ -86,8 +218,12 @@ def _jsonable(value: Any) -> Any:
     return value
 
 
-def write_summary(path: str | Path, summary: dict[str, Any], comm: Any = None) -> Path:
-    """Write ``summary`` (Checks, numpy values allowed) as indented JSON from rank 0."""
+def write_summary(path: str | Path, summary: CaseSummary | Mapping[str, Any],
+                  comm: Any = None) -> Path:
+    """Write ``summary`` (Checks, numpy values allowed) as indented JSON from rank 0.
+
+    A :class:`CaseSummary` is written in its JSON form (:meth:`CaseSummary.to_json`).
+    """
     path = Path(path)
     if comm is None or comm.rank == 0:
         path.parent.mkdir(parents=True, exist_ok=True)

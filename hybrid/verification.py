@@ -1,14 +1,16 @@
 """The verification registry behind ``hybrid verify``: C1-C10 of verification-targets.md.
 
-Each entry names a case script (``cases/*.py``, a ``main(out=..., **overrides) -> dict`` whose
-``"checks"`` maps names to :class:`hybrid.io.Check`), the reduced overrides the default (fast)
-run uses and those of the full run. Adding a case is one entry in :data:`CASES`; a case whose
-script does not exist yet is listed as "not yet available" (not failed).
+Each entry names a case script (``cases/*.py``, a ``main(out=..., **overrides)`` returning a
+:class:`hybrid.io.CaseSummary` whose ``checks`` map names to :class:`hybrid.io.Check`), the
+reduced overrides the default (fast) run uses and those of the full run. Adding a case is one
+entry in :data:`CASES`; a case whose script does not exist yet is listed as "not yet available"
+(not failed).
 
-What a case summary may carry, besides ``"checks"``, and how the report uses it:
+What a case summary may carry in its ``results``, besides its ``checks``, and how the report
+uses it:
 
 - ``"cells"``, ``"dofs"``, ``"steps"``, ``"load_steps"``, ``"iterations"``,
-  ``"newton_iterations"``, ``"wall_time_s"`` (top level), and any scalar in ``"stats"``: shown
+  ``"newton_iterations"``, ``"wall_time_s"``, and any scalar in ``"stats"``: shown
   in the case's section of the report (the wall time of the whole run, mesh and plots
   included, is always measured: ``total_wall_time_s``).
 - ``"load_settlement"``: ``{"settlement": [m], "pressure": [kPa], "references": {name: kPa}}``
@@ -32,7 +34,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from hybrid.io import Check
+from hybrid.io import CaseSummary, Check
 
 __all__ = ["VerificationCase", "CASES", "CASES_DIR", "STATUSES", "run_case", "run_cases",
            "select", "exit_code", "add_arguments", "command"]
@@ -63,8 +65,9 @@ class VerificationCase:
         bar: the acceptance bar, in words.
         slow: True when even the fast run is long (tests mark it slow).
         checks: names of the summary's checks that become rows (None: all of them).
-        extra: function(summary) -> {name: Check}, more rows from the summary's data.
-        figures: function(summary, case out dir) -> PNG paths, more figures from its data.
+        extra: function(summary) -> {name: Check}, more rows from the case's
+            :class:`~hybrid.io.CaseSummary`.
+        figures: function(summary, case out dir) -> PNG paths, more figures from its results.
         keep: glob patterns of the PNGs that go into the report (the rest stay in the case's
             output folder).
     """
@@ -78,8 +81,8 @@ class VerificationCase:
     bar: str = ""
     slow: bool = False
     checks: tuple[str, ...] | None = None
-    extra: Callable[[dict], dict[str, Check]] | None = None
-    figures: Callable[[dict, Path], list[Path]] | None = None
+    extra: Callable[[CaseSummary], dict[str, Check]] | None = None
+    figures: Callable[[CaseSummary, Path], list[Path]] | None = None
     keep: tuple[str, ...] = ("*.png",)
 
     def script_path(self, cases_dir: Path | None = None) -> Path:
@@ -87,8 +90,8 @@ class VerificationCase:
         return Path(cases_dir or CASES_DIR) / self.case_script
 
 
-def _c3_extra(summary: dict) -> dict[str, Check]:
-    conv = summary.get("settlement_convergence")
+def _c3_extra(summary: CaseSummary) -> dict[str, Check]:
+    conv = summary.results.get("settlement_convergence")
     if not conv:
         return {}
     return {"settlement_change_on_halving_mesh": Check(
@@ -96,8 +99,8 @@ def _c3_extra(summary: dict) -> dict[str, Check]:
         f"footing-edge settlement, {conv['cells'][0]} -> {conv['cells'][1]} cells (reported)")}
 
 
-def _c4_extra(summary: dict) -> dict[str, Check]:
-    conv = summary.get("mesh_convergence")
+def _c4_extra(summary: CaseSummary) -> dict[str, Check]:
+    conv = summary.results.get("mesh_convergence")
     if not conv:
         return {}
     # reference 0 makes the error the change itself; 2 % as the far-field bar
@@ -106,23 +109,23 @@ def _c4_extra(summary: dict) -> dict[str, Check]:
         "max |stress change| / max |stress| at 3 points inside the slope")}
 
 
-def _footing_estimates(summary: dict) -> dict[str, float]:
+def _footing_estimates(summary: CaseSummary) -> dict[str, float]:
     """Prandtl and the Terzaghi / Meyerhof / Vesic / Hansen estimates for the case's soil."""
     from hybrid.references import strip_footing_estimates
 
-    p = summary["parameters"]
+    p = summary.parameters
     return strip_footing_estimates(p["cohesion"], p["phi"], p["unit_weight"],
                                    p["footing_width"])
 
 
-def _footing_curve(summary: dict) -> tuple[Any, Any] | None:
-    curve = summary.get("curve") or {}
+def _footing_curve(summary: CaseSummary) -> tuple[Any, Any] | None:
+    curve = summary.results.get("curve") or {}
     if "settlement_m" in curve and "pressure_kPa" in curve:
         return curve["settlement_m"], curve["pressure_kPa"]
     return None
 
 
-def _footing_figures(summary: dict, out: Path) -> list[Path]:
+def _footing_figures(summary: CaseSummary, out: Path) -> list[Path]:
     """Load-settlement curve with the Prandtl / Terzaghi / Meyerhof / Vesic lines."""
     from hybrid import report
 
@@ -130,33 +133,32 @@ def _footing_figures(summary: dict, out: Path) -> list[Path]:
     if curve is None:
         return []
     refs = _footing_estimates(summary)
-    if summary["parameters"].get("unit_weight", 0.0) == 0.0:
+    if summary.parameters.get("unit_weight", 0.0) == 0.0:
         refs = {"Prandtl": refs["Prandtl (weightless)"]}  # the others coincide without weight
     else:
         refs["thesis 5.4.1 collapse (approx.)"] = 1200.0
     return [report.plot_load_settlement(out / "load_settlement_references.png", *curve,
                                         references=refs,
-                                        title=f"{summary.get('case', 'footing')}: "
-                                              "load-settlement")]
+                                        title=f"{summary.case}: load-settlement")]
 
 
-def _c7_extra(summary: dict) -> dict[str, Check]:
+def _c7_extra(summary: CaseSummary) -> dict[str, Check]:
     """The limit pressure beside each classical estimate (reported, no bar)."""
-    limit = summary["checks"]["limit_pressure"].computed
+    limit = summary.checks["limit_pressure"].computed
     return {f"limit_pressure_vs_{name.split()[0].lower()}": Check(
         limit, value, None, "kPa", f"{name}: c N_c + 0.5 gamma B N_gamma (reported)")
         for name, value in _footing_estimates(summary).items() if "Prandtl" not in name}
 
 
-def _wall_figures(summary: dict, out: Path) -> list[Path]:
+def _wall_figures(summary: CaseSummary, out: Path) -> list[Path]:
     """Thrust-translation curve with the Rankine and at-rest lines."""
     from hybrid import report
     from hybrid.references import k0_elastic, k0_jaky, rankine_active_thrust, rankine_passive_thrust
 
-    curve = summary.get("curve") or {}
+    curve = summary.results.get("curve") or {}
     if "translation_m" not in curve or "thrust_kN_per_m" not in curve:
         return []
-    p = summary["parameters"]
+    p = summary.parameters
     gamma, H, phi, c = p["unit_weight"], p["height"], p["phi"], p.get("cohesion", 0.0)
     refs = {"Rankine active" if p["mode"] == "active" else "Rankine passive":
             (rankine_active_thrust(gamma, H, phi, c) if p["mode"] == "active"
@@ -166,13 +168,13 @@ def _wall_figures(summary: dict, out: Path) -> list[Path]:
     return [report.plot_thrust_translation(
         out / f"thrust_translation_{p['mode']}.png", curve["translation_m"],
         curve["thrust_kN_per_m"], references=refs,
-        title=f"{summary.get('case', 'wall')}: thrust-translation")]
+        title=f"{summary.case}: thrust-translation")]
 
 
-def _below_one_extra(summary: dict) -> dict[str, Check]:
+def _below_one_extra(summary: CaseSummary) -> dict[str, Check]:
     """The weak slope: F below 1 and within 5 % of the Bishop value of its section."""
-    vs = summary["checks"]["factor_of_safety_vs_bishop"]
-    return {"below_one": Check(float(summary["below_one"]), 1.0, 0.0, "-",
+    vs = summary.checks["factor_of_safety_vs_bishop"]
+    return {"below_one": Check(float(summary.results["below_one"]), 1.0, 0.0, "-",
                                "the strength search reports F < 1"),
             "factor_of_safety_within_5_percent_of_bishop": Check(
                 vs.computed, vs.reference, 0.05, "-",
@@ -299,9 +301,10 @@ def _status(rows: Sequence[Mapping[str, Any]]) -> str:
     return "passed" if verdicts else "reported"
 
 
-def _stats(summary: Mapping[str, Any]) -> dict[str, Any]:
-    stats = {k: summary[k] for k in _STAT_KEYS if _is_scalar(summary.get(k))}
-    extra = summary.get("stats")
+def _stats(summary: CaseSummary) -> dict[str, Any]:
+    results = summary.results
+    stats = {k: results[k] for k in _STAT_KEYS if _is_scalar(results.get(k))}
+    extra = results.get("stats")
     if isinstance(extra, Mapping):
         stats.update({str(k): v for k, v in extra.items() if _is_scalar(v)})
     return stats
@@ -323,7 +326,7 @@ def _curves(value: Any, keys: tuple[str, str]) -> dict[str, Mapping[str, Any]]:
             if isinstance(v, Mapping) and all(k in v for k in keys)}
 
 
-def _curve_figures(summary: Mapping[str, Any], out: Path, case_id: str) -> list[Path]:
+def _curve_figures(summary: CaseSummary, out: Path, case_id: str) -> list[Path]:
     from hybrid import report
 
     made = []
@@ -332,7 +335,7 @@ def _curve_figures(summary: Mapping[str, Any], out: Path, case_id: str) -> list[
             ("thrust_translation", ("translation", "thrust"), report.plot_thrust_translation)):
         if list(out.glob(f"{key}*.png")):
             continue  # the case drew it itself
-        for name, curve in _curves(summary.get(key), keys).items():
+        for name, curve in _curves(summary.results.get(key), keys).items():
             stem = f"{key}_{name}" if name else key
             title = f"{case_id}: {key.replace('_', ' ')}" + (f" ({name})" if name else "")
             made.append(plot(out / f"{stem}.png", curve[keys[0]], curve[keys[1]],
@@ -380,7 +383,10 @@ def run_case(case_id: str, out_dir: str | Path, full: bool = False, *,
                              f"{result['case_script']} (known: {', '.join(sorted(known))}); "
                              f"fix CASES['{case.id}'] in hybrid/verification.py")
         summary = module.main(out=out, **overrides)
-        checks = dict(summary.get("checks", {}))
+        if not isinstance(summary, CaseSummary):
+            raise TypeError(f"{result['case_script']}: main() returned a "
+                            f"{type(summary).__name__}, not a CaseSummary")
+        checks = dict(summary.checks)
         if case.checks is not None:
             missing = [n for n in case.checks if n not in checks]
             if missing:

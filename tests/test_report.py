@@ -15,7 +15,7 @@ PNG_SIGNATURE = b"\x89PNG\r\n\x1a\n"
 
 FAKE_CASE = '''
 from dataclasses import dataclass
-from hybrid.io import Check
+from hybrid.io import CaseSummary, Check
 
 
 @dataclass
@@ -27,8 +27,11 @@ def main(out="x", **overrides):
     p = Parameters(**overrides)
     if p.computed < 0:
         raise RuntimeError("negative")
+    if p.computed == 0:
+        return {"checks": {}}  # not a CaseSummary
     # reference 2.0, bar 1 %: fails unless computed is within 1 % of 2
-    return {"checks": {"q": Check(p.computed, 2.0, 0.01, "kPa", "fake")}, "cells": 7}
+    return CaseSummary("fake", out, p, {"q": Check(p.computed, 2.0, 0.01, "kPa", "fake")},
+                       {"cells": 7})
 '''
 
 
@@ -111,8 +114,9 @@ def test_failing_row_gives_exit_code_1(tmp_path, monkeypatch):
 
 
 def test_statuses_of_missing_broken_and_reported_cases(tmp_path, monkeypatch):
-    """A missing script is 'not yet available' (exit 0); a raising case is 'error' (exit 1); an
-    unknown override names the parameter; a row without bar is 'reported'."""
+    """A missing script is 'not yet available' (exit 0); a raising case is 'error' (exit 1), as
+    is one whose main returns no CaseSummary; an unknown override names the parameter; a row
+    without bar is 'reported'."""
     script = tmp_path / "fake.py"
     script.write_text(FAKE_CASE)
     base = verification.VerificationCase("X1", "fake", str(script), reference="2", bar="1 %")
@@ -120,7 +124,8 @@ def test_statuses_of_missing_broken_and_reported_cases(tmp_path, monkeypatch):
              "X2": dataclasses.replace(base, id="X2", case_script=str(tmp_path / "nope.py")),
              "X3": dataclasses.replace(base, id="X3", overrides={"computed": -1.0}),
              "X4": dataclasses.replace(base, id="X4", overrides={"bogus": 1.0}),
-             "X5": dataclasses.replace(base, id="X5", overrides={"computed": 2.01})}
+             "X5": dataclasses.replace(base, id="X5", overrides={"computed": 2.01}),
+             "X6": dataclasses.replace(base, id="X6", overrides={"computed": 0.0})}
     for key, case in cases.items():
         monkeypatch.setitem(verification.CASES, key, case)
     res = {r["id"]: r for r in verification.run_cases(list(cases), tmp_path / "runs")}
@@ -132,6 +137,7 @@ def test_statuses_of_missing_broken_and_reported_cases(tmp_path, monkeypatch):
     assert verification.exit_code([res["X2"], res["X3"]]) == 1
     assert res["X4"]["status"] == "error" and "bogus" in res["X4"]["message"]
     assert res["X5"]["status"] == "passed"  # 2.01 vs 2: 0.5 % < 1 %
+    assert res["X6"]["status"] == "error" and "not a CaseSummary" in res["X6"]["message"]
     table = report.format_table(list(res.values()))
     assert "not yet available" in table and "error" in table
     with pytest.raises(ValueError, match="unknown verification case"):
