@@ -30,7 +30,16 @@ import math
 import numpy as np
 
 import hybrid  # noqa: F401  (sets NUMBA_CACHE_DIR / OMP_WAIT_POLICY before numba loads)
+from hybrid.constitutive.principal import equivalent_plastic_strain, return_principal
 from hybrid.constitutive.softening import softening_return
+from hybrid.constitutive.table import (
+    COHESION,
+    COS_PHI,
+    SIN_PHI,
+    SIN_PSI,
+    SOFTENING_DISPLACEMENT,
+    TENSION,
+)
 from hybrid.discrete.state import DiscreteState
 
 import numba  # isort: skip
@@ -99,8 +108,16 @@ def _mc_update(txx, tyy, tzz, txy, K, G, material_table, m, kappa, length):
         s1, s2, s3 = sa, tzz, sb
     else:
         s1, s2, s3 = sa, sb, tzz
-    r1, r2, r3, region, deq = softening_return(s1, s2, s3, K, G, material_table, m, kappa,
-                                               length)
+    if material_table[m, SOFTENING_DISPLACEMENT] > 0.0:
+        r1, r2, r3, region, deq = softening_return(s1, s2, s3, K, G, material_table, m, kappa,
+                                                   length)
+    else:  # perfect plasticity: the closed-form return at the peak strength
+        r1, r2, r3, region = return_principal(
+            s1, s2, s3, K, G, material_table[m, COHESION], material_table[m, SIN_PHI],
+            material_table[m, COS_PHI], material_table[m, SIN_PSI], material_table[m, TENSION])
+        deq = 0.0
+        if region != 0:
+            deq = equivalent_plastic_strain(s1 - r1, s2 - r2, s3 - r3, K, G)
     if region == 0:
         return txx, tyy, tzz, txy, 0.0, 0
     if tzz >= sa:
