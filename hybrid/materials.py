@@ -86,6 +86,14 @@ class Strength:
     tensile_strength: float | None = None
 
 
+def _weakened_strength(s: Strength, factor: float) -> Strength:
+    """C / F, tan(phi) / F, tan(psi) / F (at most phi), tensile strength / F."""
+    phi = _reduced_angle(s.phi, factor)
+    return Strength(cohesion=s.cohesion / factor, phi=phi,
+                    psi=min(_reduced_angle(s.psi, factor), phi),
+                    tensile_strength=_divided(s.tensile_strength, factor))
+
+
 @dataclass(frozen=True, kw_only=True)
 class Bond:
     """Strength of the bond between two intact discrete elements (thesis section 4.5).
@@ -125,7 +133,8 @@ class Contact:
         normal_stiffness: k_n [kPa/m] (normal force per unit thickness = k_n x overlap area
             / contact length); None: 10 E / mean element size.
         shear_stiffness: k_t [kPa/m] of the tangential spring; None: equal to k_n.
-        phi: contact friction angle [deg]; None: the material's phi.
+        phi: contact friction angle [deg]; None: the material's residual phi when it
+            softens, else its phi.
         damping: viscous damping ratio zeta [-] of the normal spring (0 <= zeta <= 1; 0: none,
             separated blocks rattle until mass damping stops them).
     """
@@ -175,6 +184,14 @@ class Material:
         tensile_strength: tension cut-off [kPa]; None means the Mohr-Coulomb apex c cot(phi).
         plastic: force (True) or suppress (False) the Mohr-Coulomb return; None: plastic when
             the material has a strength.
+        residual: the residual strength (``Strength``) reached by strain softening; None: no
+            softening (perfect plasticity at the peak). c, phi and psi at most the peak ones,
+            psi at most phi; its ``tensile_strength`` None means its own apex c_r cot(phi_r).
+        softening_displacement: u_r [m], the plastic slip across a shear band over which the
+            strength falls linearly from peak to residual (``hybrid.constitutive.softening``:
+            the law, and its regularisation by element size). Required with ``residual``;
+            ring-shear tests on clays need slips of the order of 0.1 to 0.5 m to reach
+            residual (Skempton 1985), dense sands a few millimetres.
         bond: strength of the bonds between discrete elements of this material (``Bond``).
         contact: contact stiffness, friction and damping of its discrete elements
             (``Contact``).
@@ -190,6 +207,8 @@ class Material:
     psi: float = 0.0
     tensile_strength: float | None = None
     plastic: bool | None = None
+    residual: Strength | None = None
+    softening_displacement: float | None = None
     bond: Bond = Bond()
     contact: Contact = Contact()
 
@@ -230,6 +249,41 @@ class Material:
                           stacklevel=3)
         for key in ("phi", "psi"):
             _warn_radians(owner, key, getattr(self, key))
+        self._check_softening(owner, bad)
+
+    def _check_softening(self, owner: str, bad) -> None:
+        """The residual strength lies below the peak; u_r > 0 is given with it."""
+        r, u_r = self.residual, self.softening_displacement
+        if r is None:
+            if u_r is not None:
+                raise bad("softening_displacement", u_r, "given together with residual="
+                          "Strength(...) (no residual strength: no softening)")
+            return
+        if not isinstance(r, Strength):
+            raise bad("residual", r, "a Strength(cohesion=..., phi=..., psi=...)")
+        if not self.is_plastic:
+            raise bad("residual", r, "None for an elastic material (give its peak strength)")
+        where = f"{owner} residual"
+        _check_numbers(where, {"cohesion": r.cohesion, "phi": r.phi, "psi": r.psi,
+                               "tensile_strength": r.tensile_strength})
+        if not 0 <= r.cohesion <= self.cohesion:
+            raise _invalid(where, "cohesion", r.cohesion, f"in [0, peak {self.cohesion}] kPa")
+        if not 0 <= r.phi <= self.phi:
+            raise _invalid(where, "phi", r.phi, f"in [0, peak {self.phi}] degrees")
+        if not 0 <= r.psi <= r.phi:
+            raise _invalid(where, "psi", r.psi, f"in [0, residual phi = {r.phi}] degrees")
+        if r.cohesion == 0 and r.phi == 0:
+            raise _invalid(where, "cohesion", r.cohesion, "> 0 or phi > 0 (some strength)")
+        if r.tensile_strength is not None and r.tensile_strength < 0:
+            raise _invalid(where, "tensile_strength", r.tensile_strength, ">= 0 kPa")
+        for key in ("phi", "psi"):
+            _warn_radians(where, key, getattr(r, key))
+        if u_r is None:
+            raise bad("softening_displacement", u_r, "> 0 m with a residual strength (the "
+                      "slip across a shear band from peak to residual)")
+        _check_numbers(owner, {"softening_displacement": u_r})
+        if not (math.isfinite(u_r) and u_r > 0):
+            raise bad("softening_displacement", u_r, "a finite value > 0 m")
 
     def _resolve_weight(self, bad) -> None:
         """Fill in whichever of unit_weight and density was not given (gamma = rho g)."""
@@ -312,4 +366,6 @@ class Material:
                            psi=min(_reduced_angle(self.psi, factor), phi),
                            plastic=self.is_plastic,
                            tensile_strength=_divided(self.tensile_strength, factor),
+                           residual=(None if self.residual is None
+                                     else _weakened_strength(self.residual, factor)),
                            bond=bond, contact=contact)

@@ -103,14 +103,16 @@ def test_principal_split_matches_shared_point_kernel():
             continue
         s0 = rng.normal(0.0, 30.0, 4)
         de = rng.normal(0.0, 5e-3, 4)
-        args = (K, G, c, math.sin(phi), math.cos(phi), math.sin(psi), ft)
-        dp_ref, y_ref = mohr_coulomb_point(*s0, de[0], de[1], 0.0, de[2], *args, out, tan,
-                                           False)
+        # a kernel-table row without softening (residual columns = peak, u_r = 0)
+        table = np.array([[K, G, c, math.sin(phi), math.cos(phi), math.sin(psi), ft,
+                           c, phi, phi, psi, psi, ft, 0.0]])
+        dp_ref, y_ref = mohr_coulomb_point(*s0, de[0], de[1], 0.0, de[2], table, 0, 0.0, 1.0,
+                                           out, tan, False)
         lam = K - 2.0 * G / 3.0
         ev = de[0] + de[1]
         trial = (s0[0] + lam * ev + 2 * G * de[0], s0[1] + lam * ev + 2 * G * de[1],
                  s0[2] + lam * ev, s0[3] + G * de[2])
-        sxx, syy, szz, sxy, dp, y = _mc_update(*trial, *args)
+        sxx, syy, szz, sxy, dp, y = _mc_update(*trial, K, G, table, 0, 0.0, 1.0)
         scale = np.max(np.abs(trial)) + c
         np.testing.assert_allclose([sxx, syy, szz, sxy], out, rtol=0, atol=1e-9 * scale)
         assert abs(dp - dp_ref) <= 1e-9 * max(dp_ref, 1e-12) + 1e-15

@@ -97,7 +97,7 @@ def _random_states(rng, n, row, low=-120.0, high=40.0):
 
 def _regions(trial, row):
     pr = _principal(trial)
-    return np.array([return_principal(*p, *row)[3] for p in pr])
+    return np.array([return_principal(*p, *row[:7])[3] for p in pr])
 
 
 def _yield_composite(stress, row):
@@ -160,7 +160,7 @@ def _fd_tangent(old, de, row, h):
         for sgn in (1.0, -1.0):
             d = de.copy()
             d[j] += sgn * h
-            mohr_coulomb_point(*old, *d, *row, out, tg, False)
+            mohr_coulomb_point(*old, *d, row[None], 0, 0.0, 1.0, out, tg, False)
             cols.append(out.copy())
         J[:, j] = (cols[0] - cols[1]) / (2 * h)
     return J
@@ -186,7 +186,7 @@ def test_tangent_matches_finite_differences(phi, psi, t):
         pert = [trial[i] + s * h * D[:, j] for j in range(4) for s in (-1, 1)]
         if np.any(_regions(np.array(pert), row) != reg[i]):
             continue
-        mohr_coulomb_point(*old[i], *de[i], *row, out, tan, True)
+        mohr_coulomb_point(*old[i], *de[i], row[None], 0, 0.0, 1.0, out, tan, True)
         J = _fd_tangent(old[i], de[i], row, h)
         err = np.max(np.abs(J - tan)) / np.max(np.abs(tan))
         worst = max(worst, err)
@@ -206,7 +206,7 @@ def test_tangent_repeated_in_plane_eigenvalues():
     out = np.empty(4)
     tan = np.empty((4, 4))
     for de in (np.array([-1e-3, -1e-3, 4e-3, 0.0]), np.array([2e-3, 2e-3, -4e-3, 0.0])):
-        mohr_coulomb_point(*old, *de, *row, out, tan, True)
+        mohr_coulomb_point(*old, *de, row[None], 0, 0.0, 1.0, out, tan, True)
         trial = old + _elastic_matrix(p.bulk_modulus, p.shear_modulus) @ de
         reg = _regions(trial[None], row)[0]
         assert REGION_NAMES[reg] in ("edge s1=s2", "edge s2=s3")
@@ -219,7 +219,8 @@ def test_apex_tangent_is_stabilised_elastic():
     p = _params(30.0, 0.0)
     out = np.empty(4)
     tan = np.empty((4, 4))
-    mohr_coulomb_point(0.0, 0.0, 0.0, 0.0, 1e-2, 1e-2, 1e-2, 0.0, *_row(p), out, tan, True)
+    mohr_coulomb_point(0.0, 0.0, 0.0, 0.0, 1e-2, 1e-2, 1e-2, 0.0, _row(p)[None], 0, 0.0, 1.0,
+                       out, tan, True)
     apex = C / math.tan(math.radians(30.0))
     assert np.allclose(out, [apex, apex, apex, 0.0], rtol=1e-14, atol=1e-12)
     D = _elastic_matrix(p.bulk_modulus, p.shear_modulus)
@@ -312,7 +313,7 @@ def test_plastic_flow_direction_main_plane(psi):
 
 def _planes_unsorted(row):
     """All 9 planes of the composite surface in unsorted principal space: (n, m, r)."""
-    _, _, c, sphi, cphi, spsi, t = row
+    _, _, c, sphi, cphi, spsi, t = row[:7]
     out = []
     for i, j in itertools.permutations(range(3), 2):
         n = np.zeros(3)
@@ -456,12 +457,12 @@ def test_vectorised_update_million_points_matches_point_function():
     tangent = np.empty((n, 4, 4))
     peq = np.full(n, 0.5)  # accumulated value: incremented in place
     yielded = np.zeros(n, dtype=np.int8)
-    mohr_coulomb_update(old, de, mat, table, stress, tangent, peq, yielded, True)
+    mohr_coulomb_update(old, de, mat, table, np.ones(n), stress, tangent, peq, yielded, True)
     assert 0.1 < yielded.mean() < 0.95
     out = np.empty(4)
     tg = np.empty((4, 4))
     for q in rng.choice(n, 300, replace=False):
-        d, f = mohr_coulomb_point(*old[q], *de[q], *table[mat[q]], out, tg, True)
+        d, f = mohr_coulomb_point(*old[q], *de[q], table, mat[q], 0.5, 1.0, out, tg, True)
         # same code, same inputs: identical up to compiler re-association (1e-13 relative)
         assert np.allclose(stress[q], out, rtol=1e-13, atol=1e-13 * C)
         assert np.allclose(tangent[q], tg, rtol=1e-13, atol=1e-13 * np.abs(tg).max())
@@ -481,6 +482,7 @@ def test_no_allocation_per_point():
             de,
             np.zeros(n, np.int64),
             table,
+            np.ones(n),
             np.empty((n, 4)),
             np.empty((n, 4, 4)),
             np.zeros(n),

@@ -1,7 +1,10 @@
 """The Mohr-Coulomb kernel's material table, built from ``Material`` for both phases.
 
-One row per material, ``[K, G, c, sin phi, cos phi, sin psi, t]`` (kPa, -), as
-``mohr_coulomb_update`` reads it. The continuum (dolfinx) and discrete (numba) phases take
+One row per material, ``TABLE_WIDTH`` columns, as ``mohr_coulomb_update`` and the discrete
+element kernels read it: the peak strength ``[K, G, c, sin phi, cos phi, sin psi, t]`` (kPa, -)
+then the softening columns ``[c_r, phi_p, phi_r, psi_p, psi_r, t_r, u_r]`` (kPa, rad, kPa, m;
+``hybrid.constitutive.softening``). A material without softening has ``u_r = 0`` and its
+residual columns equal to the peak. The continuum (dolfinx) and discrete (numba) phases take
 their tables from :func:`kernel_table`, so a material means the same in both.
 """
 
@@ -14,7 +17,26 @@ import numpy as np
 
 from hybrid.materials import Material, Strength
 
-__all__ = ["NO_TENSION_CUTOFF", "NO_YIELD", "kernel_row", "kernel_table", "tension_cutoff"]
+__all__ = ["NO_TENSION_CUTOFF", "NO_YIELD", "TABLE_WIDTH", "kernel_row", "kernel_table",
+           "tension_cutoff"]
+
+# columns of a row
+BULK_MODULUS = 0  # K [kPa]
+SHEAR_MODULUS = 1  # G [kPa]
+COHESION = 2  # peak c [kPa]
+SIN_PHI = 3  # sin of the peak phi
+COS_PHI = 4  # cos of the peak phi
+SIN_PSI = 5  # sin of the peak psi
+TENSION = 6  # peak tension cut-off t [kPa]
+RESIDUAL_COHESION = 7  # c_r [kPa]
+PEAK_PHI = 8  # phi_p [rad]
+RESIDUAL_PHI = 9  # phi_r [rad]
+PEAK_PSI = 10  # psi_p [rad]
+RESIDUAL_PSI = 11  # psi_r [rad]
+RESIDUAL_TENSION = 12  # t_r [kPa]
+SOFTENING_DISPLACEMENT = 13  # u_r [m]; 0: no softening
+#: Number of columns of a kernel-table row.
+TABLE_WIDTH = 14
 
 #: Tension cut-off of a frictionless (phi = 0) strength without a given one [kPa]: none.
 NO_TENSION_CUTOFF = 1.0e30
@@ -37,23 +59,28 @@ def tension_cutoff(strength: Strength) -> float:
     return apex
 
 
-def kernel_row(material: Material, strength: Strength | None = None) -> tuple[float, ...]:
-    """``[K, G, c, sin phi, cos phi, sin psi, t]`` of a material (kPa, -).
+def kernel_row(material: Material) -> tuple[float, ...]:
+    """The kernel-table row of a material (module docstring; ``TABLE_WIDTH`` values).
 
-    ``strength`` replaces the material's peak strength (a reduced or residual strength); an
-    elastic material gets c = t = ``NO_YIELD`` and phi = psi = 0, so that it never yields.
+    An elastic material gets c = t = ``NO_YIELD`` and phi = psi = 0, so that it never yields;
+    a material without a residual strength gets u_r = 0 (no softening).
     """
     K, G = material.bulk_modulus, material.shear_modulus
     if not material.is_plastic:
-        return (K, G, NO_YIELD, 0.0, 1.0, 0.0, NO_YIELD)
-    s = material.peak if strength is None else strength
-    phi, psi = math.radians(s.phi), math.radians(s.psi)
-    return (K, G, s.cohesion, math.sin(phi), math.cos(phi), math.sin(psi), tension_cutoff(s))
+        return (K, G, NO_YIELD, 0.0, 1.0, 0.0, NO_YIELD,
+                NO_YIELD, 0.0, 0.0, 0.0, 0.0, NO_YIELD, 0.0)
+    p = material.peak
+    r = p if material.residual is None else material.residual
+    phi, psi = math.radians(p.phi), math.radians(p.psi)
+    u_r = 0.0 if material.residual is None else float(material.softening_displacement or 0.0)
+    return (K, G, p.cohesion, math.sin(phi), math.cos(phi), math.sin(psi), tension_cutoff(p),
+            r.cohesion, phi, math.radians(r.phi), psi, math.radians(r.psi), tension_cutoff(r),
+            u_r)
 
 
 def kernel_table(materials: Sequence[Material],
                  strength_factor: float = 1.0) -> tuple[np.ndarray, np.ndarray]:
-    """The kernel's material table (n, 7) and the elastic flags (n,) of ``materials``.
+    """The kernel's material table (n, ``TABLE_WIDTH``) and the elastic flags (n,) of ``materials``.
 
     Strengths are divided by ``strength_factor`` (``Material.weakened``; 1: as given). The
     flag marks the materials whose Mohr-Coulomb return the discrete kernels skip (their rows
@@ -68,4 +95,4 @@ def kernel_table(materials: Sequence[Material],
             m = m.weakened(strength_factor)
         rows.append(kernel_row(m))
     elastic = np.array([not m.is_plastic for m in materials], dtype=bool)
-    return np.array(rows, dtype=float).reshape(len(rows), 7), elastic
+    return np.array(rows, dtype=float).reshape(len(rows), TABLE_WIDTH), elastic

@@ -45,6 +45,7 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from hybrid.constitutive.mohr_coulomb import mohr_coulomb_update
+from hybrid.constitutive.softening import characteristic_length
 from hybrid.constitutive.table import kernel_table
 from hybrid.continuum.fields import (
     Discretisation,
@@ -218,6 +219,8 @@ class PlasticSolver:
         self._strain_expr = fem.Expression(strain(self.Du), disc.points)
         self._cells = np.arange(n, dtype=np.int32)
         x, cells = model.mesh.cell_vertices()
+        # crack-band width of each point's cell [m]: the length of strain softening
+        self.point_length = np.repeat(characteristic_length(x, cells), nqp)
         edges = np.linalg.norm(x[cells] - x[np.roll(cells, -1, axis=1)], axis=-1)
         smallest = V.mesh.comm.allreduce(float(edges.min(initial=np.inf)), op=MPI.MIN)
         self.max_displacement = (0.5 * smallest if self.options.max_displacement is None
@@ -238,8 +241,8 @@ class PlasticSolver:
         deps = self._strain_expr.eval(self._cells).reshape(self.npoints, 4)
         stress, tangent, pstrain, yielded = self._trial
         pstrain[:] = self.plastic_strain
-        mohr_coulomb_update(self.stress, deps, self.point_material, self.table, stress,
-                            tangent, pstrain, yielded, True)
+        mohr_coulomb_update(self.stress, deps, self.point_material, self.table,
+                            self.point_length, stress, tangent, pstrain, yielded, True)
         if not self.active.all():
             off = np.repeat(~self.active, self.disc.num_points)
             stress[off] = 0.0

@@ -13,7 +13,7 @@ One call does, for every element (``prange``, elements own their nodes: no write
    energy into a spinning, vibrating element (x25 in 3 s); this form does not (tested).
 3. constitutive update: linear elastic trial, corrected unless the material is elastic_only by
    the shared closed-form Mohr-Coulomb principal return
-   (``hybrid.constitutive.mohr_coulomb.return_principal``; the spectral split around it is done
+   (``hybrid.constitutive.softening.softening_return``; the spectral split around it is done
    here without trigonometry or arrays, the same algebra as ``mohr_coulomb_point``);
 4. internal force I_a = sum_gp B_a^T sigma detJ w on the new configuration.
 
@@ -30,7 +30,16 @@ import math
 import numpy as np
 
 import hybrid  # noqa: F401  (sets NUMBA_CACHE_DIR / OMP_WAIT_POLICY before numba loads)
-from hybrid.constitutive.mohr_coulomb import equivalent_plastic_strain, return_principal
+from hybrid.constitutive.principal import equivalent_plastic_strain, return_principal
+from hybrid.constitutive.softening import softening_return
+from hybrid.constitutive.table import (
+    COHESION,
+    COS_PHI,
+    SIN_PHI,
+    SIN_PSI,
+    SOFTENING_DISPLACEMENT,
+    TENSION,
+)
 from hybrid.discrete.state import DiscreteState
 
 import numba  # isort: skip
@@ -77,15 +86,16 @@ def _rotate(sxx, syy, sxy, c, s):
 
 
 @numba.njit(cache=True, inline="always")
-def _mc_update(txx, tyy, tzz, txy, K, G, cohesion, sin_phi, cos_phi, sin_psi, tensile):
+def _mc_update(txx, tyy, tzz, txy, K, G, material_table, m, kappa, length):
     """Mohr-Coulomb correction of the elastic trial stress (tension positive).
 
-    Uses the shared closed-form principal return ``return_principal``: the in-plane
-    principal pair from p +- sqrt(h^2 + txy^2), sorted with sigma_zz, returned, and rotated
-    back with the trial eigenvectors (cos 2theta = h / rad, sin 2theta = txy / rad: no
-    trigonometry). Scalars only, so that it parallelises without reference counting. Returns
-    (sxx, syy, szz, sxy, d_eps_p_eq, yielded) with d_eps_p_eq = sqrt(2/3 e_p:e_p),
-    e_p = C:(sigma_tr - sigma), as ``mohr_coulomb_point``.
+    Uses the shared closed-form principal return (``softening_return``: the strength in force
+    at the point's plastic strain ``kappa`` and its element's characteristic ``length``; the
+    peak strength without softening): the in-plane principal pair from p +- sqrt(h^2 + txy^2),
+    sorted with sigma_zz, returned, and rotated back with the trial eigenvectors
+    (cos 2theta = h / rad, sin 2theta = txy / rad: no trigonometry). Scalars only, so that it
+    parallelises without reference counting. Returns (sxx, syy, szz, sxy, d_eps_p_eq, yielded)
+    with d_eps_p_eq = sqrt(2/3 e_p:e_p), e_p = C:(sigma_tr - sigma), as ``mohr_coulomb_point``.
     """
     p = 0.5 * (txx + tyy)
     h = 0.5 * (txx - tyy)
@@ -98,8 +108,16 @@ def _mc_update(txx, tyy, tzz, txy, K, G, cohesion, sin_phi, cos_phi, sin_psi, te
         s1, s2, s3 = sa, tzz, sb
     else:
         s1, s2, s3 = sa, sb, tzz
-    r1, r2, r3, region = return_principal(s1, s2, s3, K, G, cohesion, sin_phi, cos_phi,
-                                          sin_psi, tensile)
+    if material_table[m, SOFTENING_DISPLACEMENT] > 0.0:
+        r1, r2, r3, region, deq = softening_return(s1, s2, s3, K, G, material_table, m, kappa,
+                                                   length)
+    else:  # perfect plasticity: the closed-form return at the peak strength
+        r1, r2, r3, region = return_principal(
+            s1, s2, s3, K, G, material_table[m, COHESION], material_table[m, SIN_PHI],
+            material_table[m, COS_PHI], material_table[m, SIN_PSI], material_table[m, TENSION])
+        deq = 0.0
+        if region != 0:
+            deq = equivalent_plastic_strain(s1 - r1, s2 - r2, s3 - r3, K, G)
     if region == 0:
         return txx, tyy, tzz, txy, 0.0, 0
     if tzz >= sa:
@@ -116,7 +134,6 @@ def _mc_update(txx, tyy, tzz, txy, K, G, cohesion, sin_phi, cos_phi, sin_psi, te
         s2t = 0.0
     hm = 0.5 * (ra + rb)
     hd = 0.5 * (ra - rb)
-    deq = equivalent_plastic_strain(s1 - r1, s2 - r2, s3 - r3, K, G)
     return hm + hd * c2, hm - hd * c2, rz, hd * s2t, deq, 1
 
 
@@ -141,7 +158,7 @@ def _increment_gradient(j11, j12, j21, j22, k11, k12, k21, k22):
 
 @numba.njit(cache=True, inline="always")
 def _point_update(stress, plastic_strain, yielded, e, gp, l12, l21, dexx, deyy, dgxy,
-                  material_table, m, elastic, plastic_cap):
+                  material_table, m, elastic, length, plastic_cap):
     """Stress update of Gauss point ``gp`` of element ``e``, written in place.
 
     The objective elastic trial (``_objective_trial``), then the isotropic Mohr-Coulomb
@@ -155,9 +172,8 @@ def _point_update(stress, plastic_strain, yielded, e, gp, l12, l21, dexx, deyy, 
         stress[e, gp, 0], stress[e, gp, 1], stress[e, gp, 2], stress[e, gp, 3], l12, l21,
         dexx, deyy, dgxy, lam, G)
     if not elastic and plastic_strain[e, gp] < plastic_cap:
-        sxx, syy, szz, sxy, dp, yl = _mc_update(
-            sxx, syy, szz, sxy, K, G, material_table[m, 2], material_table[m, 3],
-            material_table[m, 4], material_table[m, 5], material_table[m, 6])
+        sxx, syy, szz, sxy, dp, yl = _mc_update(sxx, syy, szz, sxy, K, G, material_table, m,
+                                                plastic_strain[e, gp], length)
         plastic_strain[e, gp] += dp
         yielded[e, gp] = yl
     stress[e, gp, 0] = sxx
@@ -169,7 +185,7 @@ def _point_update(stress, plastic_strain, yielded, e, gp, l12, l21, dexx, deyy, 
 
 @numba.njit(cache=True, parallel=True)
 def _q4_kernel(x, v, dt, element_nodes, element_material, material_table, elastic_only,
-               stress, plastic_strain, yielded, bbar, plastic_cap, force):
+               element_length, stress, plastic_strain, yielded, bbar, plastic_cap, force):
     """Q4 stress update + internal force (module docstring); writes force (n_nodes, 2).
 
     bbar False: plain 2x2 integration of the volumetric part too (locks; for comparison).
@@ -258,7 +274,7 @@ def _q4_kernel(x, v, dt, element_nodes, element_material, material_table, elasti
             dgxy = l12 + l21
             sxx, syy, szz, sxy = _point_update(stress, plastic_strain, yielded, e, gp, l12, l21,
                                                dexx, deyy, dgxy, material_table, m, elastic,
-                                               plastic_cap)
+                                               element_length[e], plastic_cap)
             # force on the new configuration: det J dN/dx = j22 dNxi - j21 dNeta,
             # det J dN/dy = -j12 dNxi + j11 dNeta
             det = j11 * j22 - j12 * j21
@@ -295,7 +311,7 @@ def _q4_kernel(x, v, dt, element_nodes, element_material, material_table, elasti
 
 @numba.njit(cache=True, parallel=True)
 def _t3_kernel(x, v, dt, element_nodes, element_material, material_table, elastic_only,
-               stress, plastic_strain, yielded, plastic_cap, force):
+               element_length, stress, plastic_strain, yielded, plastic_cap, force):
     """T3 (one point) stress update + internal force; writes force (n_nodes, 2)."""
     ne = element_nodes.shape[0]
     for e in numba.prange(ne):
@@ -330,7 +346,7 @@ def _t3_kernel(x, v, dt, element_nodes, element_material, material_table, elasti
         dgxy = l12 + l21
         sxx, syy, szz, sxy = _point_update(stress, plastic_strain, yielded, e, 0, l12, l21, dexx,
                                            deyy, dgxy, material_table, m, elastic_only[m],
-                                           plastic_cap)
+                                           element_length[e], plastic_cap)
         det = j11 * j22 - j12 * j21
         h = 0.5 if det > 0.0 else math.nan
         # A dN_a/dx = (y_{a+1} - y_{a+2}) / 2, A dN_a/dy = (x_{a+2} - x_{a+1}) / 2
@@ -380,21 +396,22 @@ def _strain_energy_kernel(x, element_nodes, element_material, material_table, st
 
 
 def element_forces(x, v, dt, element_nodes, element_material, material_table, elastic_only,
-                   stress, plastic_strain, yielded, force, bbar: bool = True,
+                   element_length, stress, plastic_strain, yielded, force, bbar: bool = True,
                    plastic_strain_cap: float = math.inf) -> None:
     """Array-level call of the element kernel (no validation: the engine's hot path).
 
     Updates stress / plastic_strain / yielded for the increment du = dt v and writes the
     internal force I on the current configuration x into force (n_nodes, 2). A Gauss point
     whose accumulated plastic strain has reached ``plastic_strain_cap`` responds elastically
-    from then on (see ``RunOptions.plastic_strain_cap``).
+    from then on (see ``RunOptions.plastic_strain_cap``). ``element_length`` (n_elements,) is
+    the characteristic length of strain softening [m] (``DiscreteState.element_length``).
     """
     if element_nodes.shape[1] == 4:
         _q4_kernel(x, v, dt, element_nodes, element_material, material_table, elastic_only,
-                   stress, plastic_strain, yielded, bbar, plastic_strain_cap, force)
+                   element_length, stress, plastic_strain, yielded, bbar, plastic_strain_cap, force)
     else:
         _t3_kernel(x, v, dt, element_nodes, element_material, material_table, elastic_only,
-                   stress, plastic_strain, yielded, plastic_strain_cap, force)
+                   element_length, stress, plastic_strain, yielded, plastic_strain_cap, force)
 
 
 def internal_forces(state: DiscreteState, dt: float = 0.0, *, bbar: bool = True) -> np.ndarray:
@@ -408,8 +425,8 @@ def internal_forces(state: DiscreteState, dt: float = 0.0, *, bbar: bool = True)
     if state.nen not in (3, 4):
         raise ValueError(f"element_nodes has {state.nen} columns: expected 4 (Q4) or 3 (T3)")
     element_forces(state.x, state.v, float(dt), state.element_nodes, state.element_material,
-                   state.material_table, state.elastic_only, state.stress, state.plastic_strain,
-                   state.yielded, state.internal_force, bbar)
+                   state.material_table, state.elastic_only, state.element_length, state.stress,
+                   state.plastic_strain, state.yielded, state.internal_force, bbar)
     assert state.internal_force is not None  # set in DiscreteState.__post_init__
     return state.internal_force
 

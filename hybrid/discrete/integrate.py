@@ -188,8 +188,8 @@ def prime(state: DiscreteState) -> None:
     state.refresh_groups()
     zero = np.zeros_like(state.v)
     element_forces(state.x, zero, 0.0, state.element_nodes, state.element_material,
-                   state.material_table, state.elastic_only, state.stress,
-                   state.plastic_strain, state.yielded, state.internal_force,
+                   state.material_table, state.elastic_only, state.element_length,
+                   state.stress, state.plastic_strain, state.yielded, state.internal_force,
                    plastic_strain_cap=0.0)  # no return mapping: the stresses stay as they are
     state.primed = True
 
@@ -222,8 +222,9 @@ def step(state: DiscreteState, dt: float, *, mass_damping: float = 0.0,
                   state.prescribed_velocity, float(mass_damping), float(local_damping),
                   float(dt), state.v, state.x, state.group_energy)
     element_forces(state.x, state.v, float(dt), state.element_nodes, state.element_material,
-                   state.material_table, state.elastic_only, state.stress, state.plastic_strain,
-                   state.yielded, state.internal_force, bbar, float(plastic_strain_cap))
+                   state.material_table, state.elastic_only, state.element_length,
+                   state.stress, state.plastic_strain, state.yielded, state.internal_force,
+                   bbar, float(plastic_strain_cap))
     state.time += dt
     state.step += 1
 

@@ -16,7 +16,8 @@ from typing import Any
 
 import numpy as np
 
-from hybrid.constitutive.table import kernel_table, tension_cutoff
+from hybrid.constitutive.softening import characteristic_length
+from hybrid.constitutive.table import TABLE_WIDTH, kernel_table, tension_cutoff
 from hybrid.materials import GRAVITY, Material
 
 __all__ = ["DiscreteState", "from_mesh", "material_rows", "check_elements",
@@ -44,7 +45,8 @@ def material_rows(materials: Sequence[Material], element_size: float):
     [t/m3], interface_table (n, 3) [bond cohesion kPa, tan phi, tensile strength kPa] and
     contact_table (n, 4) [k_n kPa/m, k_t kPa/m, mu, zeta]); ``element_size`` [m] sets the
     default contact stiffness k_n = 10 E / size. A bond left unset follows the material's own
-    strength when it is plastic and never breaks when it is elastic (``Bond``).
+    strength when it is plastic and never breaks when it is elastic (``Bond``); the contact
+    friction left unset is the material's residual phi when it softens, else its phi.
     """
     mt, el = kernel_table(materials)
     n = len(materials)
@@ -69,7 +71,9 @@ def material_rows(materials: Sequence[Material], element_size: float):
         kn = (contact.normal_stiffness if contact.normal_stiffness is not None
               else 10.0 * m.E / element_size)
         kt = contact.shear_stiffness if contact.shear_stiffness is not None else kn
-        phic = contact.phi if contact.phi is not None else m.phi
+        # separated blocks slide at the residual angle when the material softens
+        own_phi = m.phi if m.residual is None else m.residual.phi
+        phic = contact.phi if contact.phi is not None else own_phi
         ct[i] = [kn, kt, math.tan(math.radians(phic)), contact.damping]
     return mt, dens, el, it, ct
 
@@ -97,7 +101,7 @@ class DiscreteState:
     fixed: np.ndarray  # (n_nodes, 2) bool, velocity held at prescribed_velocity
     prescribed_velocity: np.ndarray  # (n_nodes, 2) [m/s]
     external_force: np.ndarray  # (n_nodes, 2) [kN/m]
-    material_table: np.ndarray  # (n_mat, 7) [K, G, c, sin_phi, cos_phi, sin_psi, tensile] (kPa)
+    material_table: np.ndarray  # (n_mat, TABLE_WIDTH) kernel rows (hybrid.constitutive.table)
     density: np.ndarray  # (n_mat,) [t/m3]
     elastic_only: np.ndarray  # (n_mat,) bool, skip the Mohr-Coulomb return
     interface_table: np.ndarray  # (n_mat, 3) [cohesion kPa, tan_phi, tensile_strength kPa]
@@ -120,6 +124,8 @@ class DiscreteState:
     dt: float = 0.0  # time step of the last run [s] (reused on restart when dt is not given)
     rigid_links: np.ndarray = MADE_ON_CREATION  # (n_links, 2) int64 node pairs kept in one tie
     #     group whatever splits (``tie_rigidly``: a rigid, non-rotating platen such as a footing)
+    element_length: np.ndarray = MADE_ON_CREATION  # (n_elements,) crack-band width of each
+    #     element at creation [m] (sqrt(A) Q4, sqrt(2 A) T3), the length of strain softening
 
     def __post_init__(self) -> None:
         n = self.x.shape[0]
@@ -138,6 +144,12 @@ class DiscreteState:
             self.contact_shear = np.zeros((0, 2))
         if self.rigid_links is None:
             self.rigid_links = np.zeros((0, 2), dtype=np.int64)
+        if self.element_length is None:
+            self.element_length = characteristic_length(self.x_ref, self.element_nodes)
+        if self.material_table.ndim != 2 or self.material_table.shape[1] != TABLE_WIDTH:
+            raise ValueError(f"material_table has shape {self.material_table.shape}; need "
+                             f"(n_mat, {TABLE_WIDTH}) rows from kernel_table (a checkpoint "
+                             "of an older version: restart from the handover)")
 
     # -- sizes ------------------------------------------------------------------------------
     @property

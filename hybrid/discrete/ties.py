@@ -11,14 +11,18 @@ tau = |t - sigma_N n| the interface fails
   strictly greater, so that an unloaded cohesionless interface, tau = 0 = c, stays intact),
 
 with the interface properties of the weaker of the two materials (the smaller of each of
-c, tan phi and the tensile strength). Optionally (``split_plastic_strain``, an addition to the
-thesis) an interface also fails when the mean accumulated plastic strain of those Gauss points
-exceeds the limit: inside a Mohr-Coulomb element the stress is capped on the yield surface, so
-the traction on a mesh edge not aligned with the critical plane never reaches the bond
-strength, and a flowing region would otherwise distort its elements until they invert.
-A failed interface unties: the tie groups of the edge's
-two vertices are rebuilt as the connected components of the graph "node - intact interface -
-node" among the group's members.
+c, tan phi and the tensile strength). An interface also fails where the material beside it has
+softened to its residual strength (``hybrid.constitutive.softening``): when the Gauss points
+next to the edge on either side have reached the residual slip on average, the softened band
+becomes a discontinuity, and the failed interface is from then on a frictional contact at the
+residual angle without cohesion (``Contact.phi`` defaults to the residual phi).
+Optionally (``split_plastic_strain``, an addition to the thesis) an interface also fails when
+the mean accumulated plastic strain of those Gauss points exceeds the limit: inside a
+perfectly plastic element the stress is capped on the yield surface, so the traction on a mesh
+edge not aligned with the critical plane never reaches the bond strength, and a flowing region
+would otherwise distort its elements until they invert. A failed interface unties: the tie
+groups of the edge's two vertices are rebuilt as the connected components of the graph "node -
+intact interface - node" among the group's members.
 """
 
 from __future__ import annotations
@@ -28,16 +32,18 @@ import math
 import numpy as np
 
 import hybrid  # noqa: F401
+from hybrid.constitutive.softening import softening_fraction
 from hybrid.discrete.state import LEDGER_GROUPS, DiscreteState, groups_csr
 
 import numba  # isort: skip
 
 __all__ = ["check_interfaces", "split_interfaces", "limit_splitting", "FAIL_TENSION",
-           "FAIL_SHEAR", "FAIL_PLASTIC"]
+           "FAIL_SHEAR", "FAIL_PLASTIC", "FAIL_SOFTENED"]
 
 FAIL_TENSION = 1
 FAIL_SHEAR = 2
 FAIL_PLASTIC = 3
+FAIL_SOFTENED = 4
 
 
 @numba.njit(cache=True, inline="always")
@@ -51,8 +57,8 @@ def _local_index(element_nodes, e, node):
 @numba.njit(cache=True, parallel=True)
 def _failure_kernel(x, element_nodes, element_material, stress, interface_elements,
                     interface_nodes, interface_intact, interface_splittable, interface_table,
-                    plastic_strain, plastic_limit, out):
-    """out[i] = 0 (holds), 1 (tension), 2 (shear) or 3 (plastic strain) per interface."""
+                    material_table, element_length, plastic_strain, plastic_limit, out):
+    """out[i] = 0 (holds), 1 (tension), 2 (shear), 3 (plastic strain) or 4 (softened)."""
     n_if = interface_elements.shape[0]
     ngp = stress.shape[1]
     for i in numba.prange(n_if):
@@ -68,15 +74,20 @@ def _failure_kernel(x, element_nodes, element_material, stress, interface_elemen
         sxy = 0.0
         eps_p = 0.0
         cnt = 0.0
+        softened = 0.0  # the larger of the two sides' mean softening fractions
         for side in range(2):
             e = ea if side == 0 else eb
+            m = element_material[e]
             # the edge starts at a0 in A and at b1 in B (both counter-clockwise)
             k = _local_index(element_nodes, e, a0 if side == 0 else interface_nodes[i, 3])
+            xi = 0.0
             if ngp == 1:
                 sxx += stress[e, 0, 0]
                 syy += stress[e, 0, 1]
                 sxy += stress[e, 0, 3]
                 eps_p += plastic_strain[e, 0]
+                xi = softening_fraction(material_table, m, plastic_strain[e, 0],
+                                        element_length[e])
                 cnt += 1.0
             else:
                 for gp in (k, (k + 1) % 4):
@@ -84,7 +95,10 @@ def _failure_kernel(x, element_nodes, element_material, stress, interface_elemen
                     syy += stress[e, gp, 1]
                     sxy += stress[e, gp, 3]
                     eps_p += plastic_strain[e, gp]
+                    xi += 0.5 * softening_fraction(material_table, m, plastic_strain[e, gp],
+                                                   element_length[e])
                     cnt += 1.0
+            softened = max(softened, xi)
         sxx /= cnt
         syy /= cnt
         sxy /= cnt
@@ -106,6 +120,8 @@ def _failure_kernel(x, element_nodes, element_material, stress, interface_elemen
             out[i] = FAIL_TENSION
         elif tau > c + max(-sn, 0.0) * tphi:
             out[i] = FAIL_SHEAR
+        elif softened >= 1.0 - 1.0e-12:
+            out[i] = FAIL_SOFTENED
         elif eps_p / cnt > plastic_limit:
             out[i] = FAIL_PLASTIC
         else:
@@ -116,16 +132,16 @@ def check_interfaces(state: DiscreteState, split_plastic_strain: float = math.in
                      ) -> np.ndarray:
     """Failure mode per interface (n_if,) int8.
 
-    0 holds, 1 tension, 2 shear, 3 plastic strain above ``split_plastic_strain`` (see
-    module).
+    0 holds, 1 tension, 2 shear, 3 plastic strain above ``split_plastic_strain``, 4 the
+    material beside it softened to residual (see module).
     """
     out = np.zeros(state.interface_elements.shape[0], dtype=np.int8)
     if out.size:
         _failure_kernel(state.x, state.element_nodes, state.element_material, state.stress,
                         state.interface_elements, state.interface_nodes,
                         state.interface_intact, state.interface_splittable,
-                        state.interface_table, state.plastic_strain,
-                        float(split_plastic_strain), out)
+                        state.interface_table, state.material_table, state.element_length,
+                        state.plastic_strain, float(split_plastic_strain), out)
     return out
 
 
