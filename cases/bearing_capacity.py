@@ -27,7 +27,8 @@ from pathlib import Path
 
 import numpy as np
 
-from hybrid.continuum.plastic import NewtonOptions, PlasticSolver, plateau_rise
+from hybrid.continuum.analysis import plateau_rise
+from hybrid.continuum.plastic import NewtonOptions, PlasticSolver
 from hybrid.geometry import build_mesh, load_builder
 from hybrid.io import CaseSummary, Check, plot_cell_field, write_continuum_xdmf
 from hybrid.materials import Material

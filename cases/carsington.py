@@ -65,14 +65,14 @@ from hybrid.continuum.limit_equilibrium import bishop_circle
 from hybrid.continuum.staging import Construction, build_in_lifts, split_into_lifts
 from hybrid.continuum.strength_reduction import StrengthSearch
 from hybrid.discrete.energy import energy_excess, energy_peak_ratio
-from hybrid.discrete.figures import Snapshots, plot_configuration
+from hybrid.discrete.figures import plot_configuration
 from hybrid.discrete.integrate import stable_time_step
-from hybrid.discrete.measures import slip_surface, slip_trace, slipped_interfaces
-from hybrid.discrete.outputs import standard_outputs
-from hybrid.discrete.solver import ExplicitSolver, RunOptions
-from hybrid.figures import Column, construction_figures, safety_figures
+from hybrid.discrete.measures import SlipSurface, SlopeMarks
+from hybrid.discrete.runs import run_to_rest
+from hybrid.discrete.solver import RunOptions
+from hybrid.figures import Column, staged_figures
 from hybrid.geometry import MeshData, build_mesh, load_mesh_script
-from hybrid.handover import Region, to_discrete
+from hybrid.handover import Region, element_groups, from_construction
 from hybrid.io import CaseSummary, Check, write_continuum_xdmf
 from hybrid.materials import Bond, Contact, Material
 from hybrid.model import Fixed, Model, Roller
@@ -309,53 +309,38 @@ def discrete_phase(phase: ContinuumPhase, p: Parameters, out: Path) -> dict[str,
     it in one go); otherwise the end of construction. The yielded cells grown by
     ``region_layers`` may split; the foundation (elastic, "strong base") is held.
     """
-    start, solver, before = time.perf_counter(), phase.solver, phase.construction.before_collapse
-    if before is not None:
-        solver.restore(before)
-    hand = to_discrete(solver.state(), region=Region(layers=p.region_layers))
+    start, before = time.perf_counter(), phase.construction.before_collapse
+    hand = from_construction(phase.solver, phase.construction,
+                             region=Region(layers=p.region_layers))
     if hand.discrete is None:  # MPI ranks other than 0
         return {}
-    disc, g = hand.discrete, section(p)
-    names = np.array([n.split(":")[0] for n in solver.model.material_names])
-    group = names[disc.element_material]  # each element's region (lifts merged)
+    disc, g, group = hand.discrete, section(p), element_groups(hand)  # lifts merged
     disc.fix(np.unique(disc.element_nodes[group == "foundation"]))
     centroid = disc.element_centroids()
     boot = (group == "core") & (centroid[:, 1] < g.foundation_level + g.boot_height)
     upstream_shoulder = np.isin(group, ["zone_I", "zone_II", "berm"]) & (centroid[:, 0] < 0.0)
-    emb_nodes = np.unique(disc.element_nodes[~np.isin(group, GROUND)])
-    top = float(disc.x[emb_nodes, 1].max())
-    crest_nodes = emb_nodes[(disc.x[emb_nodes, 1] > top - 0.5)
-                            & (np.abs(disc.x[emb_nodes, 0]) < 0.5 * g.crest_width + 10.0)]
-    toe_node = emb_nodes[np.argmin(disc.x[emb_nodes, 0])]
+    half_crest = 0.5 * g.crest_width + 10.0  # the fill top near the axis
+    slope = SlopeMarks.pick(disc, ~np.isin(group, GROUND), crest_x=(-half_crest, half_crest))
     mass0, n0 = float(disc.mass.sum()), disc.n_elements
     window = (g.berm_toe - 40.0, g.downstream_toe + 20.0, g.foundation_level - 15.0,
               g.crest_level + 5.0)
-    paths = [plot_configuration(out / "discrete_t0.png", disc, window=window,
-                                title="Discrete start: plastic strain, bonds intact")]
-    snapshots = Snapshots(out, [1.0, 3.0, 6.0, 10.0], prefix="discrete_t", window=window,
-                          title="t = {time:.3g} s: failed interfaces (red), plastic strain")
-    dt = 0.5 * stable_time_step(disc, contact=True)
-    options = RunOptions(dt=dt, mass_damping=p.mass_damping, split_every=10,
+    options = RunOptions(dt=0.5 * stable_time_step(disc, contact=True),
+                         mass_damping=p.mass_damping, split_every=10,
                          split_plastic_strain=p.split_plastic_strain,
                          plastic_strain_cap=p.plastic_strain_cap)
-    outputs = standard_outputs(
-        out / "discrete", progress=p.progress,
-        output_every=max(int(p.discrete_time / dt) // p.frames, 1) if p.frames else 0)
-    with ExplicitSolver(disc, options, observers=outputs) as solver:
-        res = solver.run(until_time=p.discrete_time, until_rest=p.rest, rest_min_steps=2000,
-                         on_check=snapshots, check_every=50)
-    on_surface = slip_surface(disc, p.slip_min)
-    lines = {f"slip surface: slipped >= {p.slip_min:g} m":
-             disc.x[disc.interface_nodes[on_surface][:, :2]]}
-    paths += [*snapshots.paths, plot_configuration(
-        out / "discrete_final.png", disc, window=window, lines=lines,
+    run = run_to_rest(disc, out, options, until_time=p.discrete_time, rest=p.rest,
+                      frames=p.frames, snapshot_times=(1.0, 3.0, 6.0, 10.0), window=window,
+                      progress=p.progress)
+    res, h = run.result, run.result.history
+    surface = SlipSurface.of(disc, p.slip_min,
+                             {"yellow_clay": group == "yellow_clay", "boot": boot})
+    paths = [*run.figures, plot_configuration(
+        out / "discrete_final.png", disc, window=window, lines=surface.lines(disc),
         title=f"t = {res.time:.3g} s ({res.stop_reason})")]
-    by_threshold = slipped_interfaces(disc, (p.slip_min, 0.5, 1.0, 2.0),
-                                      {"yellow_clay": group == "yellow_clay", "boot": boot})
-    through = by_threshold[f"{p.slip_min:g}"]
-    u, h, published = disc.x - disc.x_ref, res.history, uses_defaults(p, PUBLISHED_PROBLEM)
+    through, published = surface.through, uses_defaults(p, PUBLISHED_PROBLEM)
+    u, moved = disc.x - disc.x_ref, slope.movement(disc)
     shoulder_dx = float(np.mean(u[disc.element_nodes[upstream_shoulder]][..., 0]))
-    crest_drop, toe_dx = -float(np.mean(u[crest_nodes, 1])), float(u[toe_node, 0])
+    crest_drop, toe_dx = moved.crest_drop, moved.toe_dx
     checks = {
         "slip_surface_through_yellow_clay": Check(
             float(through["yellow_clay"] > 0), 1.0, 0.0, "-",
@@ -384,41 +369,34 @@ def discrete_phase(phase: ContinuumPhase, p: Parameters, out: Path) -> dict[str,
             "time_s": res.time, "stop": res.stop_reason, "wall_time_s": res.wall_time,
             "phase_wall_time_s": time.perf_counter() - start,
             "interfaces_failed": int((~disc.interface_intact).sum()),
-            "slip_surface_interfaces": int(on_surface.sum()),
+            "slip_surface_interfaces": int(surface.interfaces.sum()),
             "slip_surface_yellow_clay": through["yellow_clay"],
             "slip_surface_boot": through["boot"],
-            "slip_surface_trace_m": slip_trace(disc, on_surface),
-            "slipped_interfaces_by_threshold_m": by_threshold,
+            "slip_surface_trace_m": surface.trace,
+            "slipped_interfaces_by_threshold_m": surface.by_threshold,
             "upstream_shoulder_mean_dx_m": shoulder_dx,
             "upstream_toe_dx_m": toe_dx, "crest_drop_m": crest_drop,
-            "max_upstream_movement_m": float(-u[emb_nodes, 0].min()),
+            "max_upstream_movement_m": moved.run_out,
             "energy_peak_over_supply": energy_peak_ratio(h),
             "figures": [str(f) for f in paths],
-            "outputs": [str(f) for f in solver.files if f.suffix != ".png"]},
+            "outputs": [str(f) for f in run.outputs]},
         "checks": {**phase.summary["checks"], **checks}}
 
 
 def figures(out: Path, p: Parameters, mesh: MeshData, state: ContinuumState,
             built: Construction, circle: SlipCircle | None) -> list[Path]:
-    """Figures of the end of construction (or the last equilibrium before collapse; fill not
-    yet placed left blank): stresses, yielded zone, vertical strain and displacements from
-    placement, core profiles at the axis; with a factor of safety, the plastic strain and the
-    mechanism at F with Bishop's critical circle."""
+    """Figures of the end of construction (or the last equilibrium before collapse) in a
+    window on the dam, with the core's profiles at the axis; with a factor of safety, the
+    plastic strain and the mechanism at F with Bishop's critical circle."""
     g = section(p)
-    when = "end of construction" if built.completed else "last equilibrium before collapse"
     window = (g.berm_toe - 30.0, g.downstream_toe + 30.0, g.foundation_level - 25.0,
               g.crest_level + 3.0)
     core = np.isin(np.arange(mesh.num_owned_cells), mesh.cells("core")) & state.active
     column = Column(core, 0.0, g.foundation_level - g.trench_depth + 0.1, g.crest_level - 0.1,
                     section_module().lift_tops(g.crest_level, g.berm_top, p.lifts),
                     "the axis", "core")
-    paths = construction_figures(out, mesh, state, built.strain.cell_mean(state),
-                                 active=state.active, window=window, when=when, column=column,
-                                 elevation_label="elevation [m OD]")
-    if built.safety is not None:
-        paths += safety_figures(out, mesh, built.safety, active=built.safety_active,
-                                window=window, circle=circle)
-    return paths
+    return staged_figures(out, mesh, state, built, window=window, column=column,
+                          circle=circle, elevation_label="elevation [m OD]")
 
 
 if __name__ == "__main__":

@@ -12,14 +12,19 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Any, NamedTuple
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
 from hybrid.io import gather_cells, plot_cell_field, save_figure
 
+if TYPE_CHECKING:
+    from hybrid.continuum.staging import Construction
+    from hybrid.continuum.state import ContinuumState
+    from hybrid.references import SlipCircle
+
 __all__ = ["Column", "window_overlay", "construction_figures", "plot_displacement_vectors",
-           "plot_column_profiles", "safety_figures"]
+           "plot_column_profiles", "safety_figures", "staged_figures"]
 
 Window = tuple[float, float, float, float]
 
@@ -203,3 +208,26 @@ def safety_figures(out: str | Path, mesh: Any, safety: Any, *, active: np.ndarra
                        "Failure mechanism: displacement increment of the last reduction step",
                        "|du| [m]", "viridis"))
     return _cell_fields(Path(out), mesh, fields, active, overlay)
+
+
+def staged_figures(out: str | Path, mesh: Any, state: ContinuumState, built: Construction, *,
+                   window: Window, column: Column | None = None,
+                   circle: SlipCircle | None = None,
+                   elevation_label: str = "y [m]") -> list[Path]:
+    """The figures of a staged construction (:func:`~hybrid.continuum.staging.build_in_lifts`).
+
+    :func:`construction_figures` of ``state``, the end of construction or, when a lift
+    collapsed, the last equilibrium before collapse (said in the titles), with the fill not
+    yet placed left blank and the strain from placement; then, when a factor of safety was
+    found, :func:`safety_figures` of the last one with ``circle``.
+    """
+    when = "end of construction" if built.completed else "last equilibrium before collapse"
+    active = (np.ones(mesh.num_owned_cells, dtype=bool) if state.active is None
+              else state.active)
+    paths = construction_figures(out, mesh, state, built.strain.cell_mean(state),
+                                 active=active, window=window, when=when, column=column,
+                                 elevation_label=elevation_label)
+    if built.safety is not None:
+        paths += safety_figures(out, mesh, built.safety, active=built.safety_active,
+                                window=window, circle=circle)
+    return paths

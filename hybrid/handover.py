@@ -12,6 +12,10 @@ everything. Interfaces with both elements in the region may split; all others st
 Cells further than ``freeze_layers`` layers from the region can be frozen (all nodes held:
 a rigid contact body).
 
+After a staged construction (:func:`~hybrid.continuum.staging.build_in_lifts`),
+:func:`from_construction` hands over the last complete lift with the collapsing one in place,
+and :func:`element_groups` names each element's cell group with the lifts merged.
+
 Under MPI the snapshot and the discrete state exist on rank 0 only (None on the other
 ranks); serial and parallel runs give the same discrete start.
 """
@@ -19,7 +23,7 @@ ranks); serial and parallel runs give the same discrete start.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -27,8 +31,12 @@ from hybrid.discrete.settle import SettleReport, residual_force, settle
 from hybrid.discrete.start import Handover, start_from_snapshot
 from hybrid.snapshot import CellSnapshot
 
+if TYPE_CHECKING:
+    from hybrid.continuum.plastic import PlasticSolver
+    from hybrid.continuum.staging import Construction
+
 __all__ = ["Region", "Handover", "to_discrete", "start_from", "region_cells", "settle",
-           "SettleReport", "residual_force"]
+           "SettleReport", "residual_force", "from_construction", "element_groups"]
 
 
 @dataclass(frozen=True)
@@ -114,3 +122,31 @@ def to_discrete(state: Any, *, region: Region | None = None,
     if snapshot is None:
         return Handover(None, np.zeros(0, bool), np.zeros(0, bool), np.zeros((0, 2)))
     return start_from(snapshot, region=region, freeze_layers=freeze_layers)
+
+
+def from_construction(solver: PlasticSolver, construction: Construction, *,
+                      region: Region | None = None) -> Handover:
+    """The discrete start after a staged construction (``solver`` as it ended it).
+
+    When a lift collapsed (``construction.before_collapse``), the solver is restored to the
+    last complete lift first: the collapsing lift is handed over in place, stress-free, and
+    gets all its weight in the discrete phase (:func:`to_discrete`); otherwise the end of
+    construction is handed over. ``region``: where interfaces may split (default: the
+    yielded cells).
+    """
+    if construction.before_collapse is not None:
+        solver.restore(construction.before_collapse)
+    return to_discrete(solver.state(), region=region)
+
+
+def element_groups(hand: Handover) -> np.ndarray:
+    """(n_elements,) the cell-group name of each element of ``hand.discrete``.
+
+    The lifts of a group (:func:`~hybrid.continuum.staging.split_into_lifts`: "core:1",
+    "core:2", ...) count as the group ("core").
+    """
+    if not hand.material_names:
+        raise ValueError("element_groups: the handover has no material names (a Handover of "
+                         "start_from_snapshot has them)")
+    names = np.array([name.split(":")[0] for name in hand.material_names])
+    return names[hand.discrete.element_material]

@@ -1,5 +1,5 @@
-"""Interface measures of a discrete state (slip, slip surface, its trace) and the snapshot
-figures of a run."""
+"""Measures of a discrete state (slip, slip surface, its trace, a slope's movement) and the
+snapshot figures of a run."""
 
 import numpy as np
 import pytest
@@ -7,6 +7,8 @@ import pytest
 from hybrid.discrete import rectangle
 from hybrid.discrete.figures import Snapshots
 from hybrid.discrete.measures import (
+    SlipSurface,
+    SlopeMarks,
     interface_slip,
     slip_surface,
     slip_trace,
@@ -62,3 +64,41 @@ def test_snapshots_once_per_time(tmp_path):
     st.time = 2.0
     shots(st)
     assert len(shots.paths) == 2
+
+
+def test_slip_surface_gathers_the_measures():
+    st = _two_blocks(0.3)
+    sets = {"left": np.array([True, False])}
+    surface = SlipSurface.of(st, 0.1, sets, thresholds=(0.5,))
+    assert surface.interfaces.tolist() == [True]
+    assert surface.by_threshold == slipped_interfaces(st, (0.1, 0.5), sets)
+    assert surface.through == {"interfaces": 1, "left": 1}
+    assert surface.trace == [[1.0, 0.5]]
+    (label, segments), = surface.lines(st).items()
+    assert label == "slip surface: slipped >= 0.1 m"
+    # the interface on its first element's side, where that element is now
+    np.testing.assert_allclose(segments, st.x[st.interface_nodes[:, :2]][None, 0])
+    assert SlipSurface.of(st, 1.0, sets).interfaces.tolist() == [False]
+
+
+def test_slope_marks_toe_crest_and_movement():
+    """A 3 x 2 block of 1 m cells: the crest is the top row inside the x range, the toe the
+    first node of smallest (facing -x) or largest (facing +x) x."""
+    st = rectangle(3.0, 2.0, 3, 2, material=ROCK)
+    marks = SlopeMarks.pick(st, np.ones(st.n_elements, bool), crest_x=(0.5, 2.5))
+    assert sorted(map(tuple, st.x[marks.crest])) == [(1.0, 2.0)] * 2 + [(2.0, 2.0)] * 2
+    assert tuple(st.x[marks.toe]) == (0.0, 0.0) and marks.facing == -1
+    st.x[:, 0] -= 0.4  # everything slides 0.4 m towards -x ...
+    st.x[marks.crest, 1] -= 0.2  # ... and the crest drops 0.2 m
+    st.x[marks.toe, 0] -= 1.0  # the toe runs out 1 m further
+    moved = marks.movement(st)
+    assert moved.toe_dx == pytest.approx(-1.4)
+    assert moved.crest_drop == pytest.approx(0.2)
+    assert moved.run_out == pytest.approx(1.4)
+    ahead = SlopeMarks.pick(st, np.ones(st.n_elements, bool), crest_x=(-1.0, 3.0),
+                            crest_depth=0.1, facing=1)  # the crest nodes that did not drop
+    assert sorted(st.x[ahead.crest, 0]) == pytest.approx([-0.4, 2.6])  # corner nodes
+    assert st.x[ahead.toe, 0] == st.x[:, 0].max()
+    assert ahead.movement(st).run_out == pytest.approx(-0.4)  # nothing moved towards +x
+    with pytest.raises(ValueError, match="facing"):
+        SlopeMarks.pick(st, np.ones(st.n_elements, bool), crest_x=(0.0, 1.0), facing=0)

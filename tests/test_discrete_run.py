@@ -6,7 +6,8 @@ import pytest
 
 from hybrid.discrete import integrate, rectangle
 from hybrid.discrete.ledger import EnergyLedger
-from hybrid.discrete.outputs import standard_outputs
+from hybrid.discrete.outputs import frame_interval, standard_outputs
+from hybrid.discrete.runs import run_to_rest
 from hybrid.discrete.solver import ExplicitSolver, RunOptions, run
 from hybrid.materials import Material
 
@@ -95,6 +96,33 @@ def test_until_time_stops_there():
     res = run(st, until_time=0.05)
     assert res.stop_reason == "time"
     assert st.time >= 0.05 - 1e-12 and st.time < 0.05 + res.dt
+
+
+def test_frame_interval():
+    assert frame_interval(1.0, 0.01, 4) == 25  # 100 steps, 4 frames
+    assert frame_interval(1.0, 0.3, 10) == 1  # at least every step
+    assert frame_interval(1.0, 0.01, 0) == 0  # no frames
+    with pytest.raises(ValueError, match="frames"):
+        frame_interval(1.0, 0.01, -1)
+
+
+def test_run_to_rest_writes_the_standard_outputs(tmp_path):
+    """A column settling under gravity: the start and snapshot figures, the XDMF series and
+    frames in out/discrete; the run stops at rest before its time limit."""
+    st = rectangle(1.0, 2.0, 1, 2, material=MAT)
+    st.fix(np.isclose(st.x_ref[:, 1], 0.0))
+    dt = 0.5 * integrate.stable_time_step(st)
+    done = run_to_rest(st, tmp_path, RunOptions(dt=dt, mass_damping=50.0), until_time=1.0,
+                       rest=1e-6, rest_min_steps=100, frames=2, snapshot_times=(0.2 * dt,),
+                       progress=False, prefix="d_", check_every=10)
+    assert done.result.stop_reason == "rest" and st.time < 1.0
+    assert [p.name for p in done.figures] == ["d_t0.png", f"d_t{0.2 * dt:g}.png"]
+    assert all(p.is_file() for p in done.figures)
+    assert {p.name for p in done.outputs} == {"discrete.xdmf", "discrete.h5", "discrete.gif"}
+    assert all(p.parent == tmp_path / "discrete" for p in done.outputs)
+    assert (tmp_path / "discrete" / "frames" / "frame_0000.png").is_file()
+    with pytest.raises(ValueError, match="options.dt"):
+        run_to_rest(st, tmp_path, RunOptions(), until_time=1.0, rest=1e-6, frames=2)
 
 
 def test_unstable_run_stopped_with_clear_message():

@@ -7,12 +7,14 @@ nodal forces sum to -p x width in y; the shared edge is the one interface.
 
 import subprocess
 import textwrap
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
 from conftest import PYTHON, ROOT
 
-from hybrid.handover import Region, start_from
+from hybrid import handover
+from hybrid.handover import Handover, Region, element_groups, from_construction, start_from
 from hybrid.materials import GRAVITY, Material
 from hybrid.snapshot import CellSnapshot
 
@@ -80,3 +82,40 @@ def test_handover_runs_without_dolfinx():
                           timeout=300)
     assert done.returncode == 0, done.stderr
     assert done.stdout.split() == ["ok", "2"]
+
+
+def test_element_groups_merge_the_lifts():
+    clay = Material(name="clay", E=1e5, nu=0.3, unit_weight=20.0)
+    hand = start_from(_snapshot(material=np.array([1, 0]), materials=(clay, clay),
+                                material_names=("core:2", "foundation")))
+    assert hand.material_names == ("core:2", "foundation")
+    assert element_groups(hand).tolist() == ["foundation", "core"]
+    with pytest.raises(ValueError, match="no material names"):
+        element_groups(Handover(hand.discrete, hand.splittable, hand.frozen, hand.load_forces))
+
+
+def test_from_construction_restores_the_last_complete_lift(monkeypatch):
+    """After a collapse the solver goes back to the last complete lift before the handover;
+    after a complete construction it is handed over as it stands."""
+    calls = []
+
+    class Solver:
+        def restore(self, snapshot):
+            calls.append(("restore", snapshot))
+
+        def state(self):
+            calls.append(("state",))
+            return "state"
+
+    def fake_to_discrete(state, *, region):
+        calls.append(("to_discrete", state, region))
+        return "hand"
+
+    monkeypatch.setattr(handover, "to_discrete", fake_to_discrete)
+    region = Region(layers=2)
+    collapsed = SimpleNamespace(before_collapse="lift 3")
+    assert from_construction(Solver(), collapsed, region=region) == "hand"
+    assert calls == [("restore", "lift 3"), ("state",), ("to_discrete", "state", region)]
+    calls.clear()
+    assert from_construction(Solver(), SimpleNamespace(before_collapse=None)) == "hand"
+    assert calls == [("state",), ("to_discrete", "state", None)]

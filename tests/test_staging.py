@@ -1,6 +1,7 @@
 """Staged construction helpers: groups split into lifts, placement lift by lift, strain from
 placement, MPI-safe reductions of a state, and the standard construction figures."""
 
+import dataclasses
 from pathlib import Path
 
 import numpy as np
@@ -9,8 +10,9 @@ import pytest
 from hybrid.continuum.plastic import PlasticSolver
 from hybrid.continuum.staging import build_in_lifts, lift_groups, split_into_lifts
 from hybrid.continuum.strength_reduction import SafetyResult
-from hybrid.figures import Column, construction_figures, safety_figures
+from hybrid.figures import Column, construction_figures, safety_figures, staged_figures
 from hybrid.geometry import GeometryError, build_mesh, load_builder
+from hybrid.handover import element_groups, from_construction
 from hybrid.materials import Material
 from hybrid.model import Fixed, Model, Roller
 from hybrid.references import SlipCircle
@@ -107,3 +109,29 @@ def test_construction_and_safety_figures(column, tmp_path):
                            circle=SlipCircle(1.4, (1.0, 5.0), 3.0, 0.0, 2.0))
     assert [p.name for p in paths] == ["fos_plastic_strain.png", "fos_mechanism.png"]
     assert all(p.is_file() and p.stat().st_size > 0 for p in paths)
+
+
+def test_staged_figures(column, tmp_path):
+    """The construction figures, and the safety figures only with a factor of safety."""
+    _, mesh, solver, built = column
+    state, window = solver.state(), (-1.0, 3.0, -1.0, 5.0)
+    paths = staged_figures(tmp_path / "a", mesh, state, built, window=window)
+    assert {p.name for p in paths} == {f"end_of_construction_{n}.png" for n in (
+        "sigma_yy", "sigma_xx", "sigma_xy", "yielded", "vertical_strain",
+        "displacement_vectors")}
+    safety = SafetyResult(1.5, (1.5, 1.6), 1.0, trials=[(1.5, False, 3)], state=state,
+                          mechanism=state.u.x.array.copy())
+    with_fos = dataclasses.replace(built, completed=False, safety=safety)
+    paths = staged_figures(tmp_path / "b", mesh, state, with_fos, window=window)
+    assert len(paths) == 7 and paths[-1].name == "fos_plastic_strain.png"
+
+
+def test_handover_after_construction(column):
+    """The cells in place are handed over, the lifts of a group merged into the group."""
+    _, mesh, solver, built = column
+    snap = solver.snapshot()  # as if the next lift had collapsed: back to this state
+    hand = from_construction(solver, dataclasses.replace(built, before_collapse=snap))
+    assert hand.discrete.n_elements == mesh.num_owned_cells  # every lift is in place
+    groups = element_groups(hand)
+    assert set(groups) == {"lift1", "lift2"}
+    assert (groups == "lift2").sum() == len(mesh.cells("lift2:1")) + len(mesh.cells("lift2:2"))

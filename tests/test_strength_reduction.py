@@ -17,7 +17,8 @@ import pytest
 from conftest import CASES, PYTHON, ROOT
 
 from hybrid.continuum import PlasticSolver
-from hybrid.continuum.plastic import Analysis, IncrementControl, NewtonOptions, plateau_rise
+from hybrid.continuum.analysis import Analysis, plateau_rise
+from hybrid.continuum.plastic import IncrementControl, NewtonOptions
 from hybrid.errors import StageIncomplete
 from hybrid.geometry import build_mesh
 from hybrid.materials import Material

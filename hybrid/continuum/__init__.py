@@ -16,10 +16,11 @@ for _handler in _logging.getLogger().handlers:
     _handler.addFilter(_quiet_jit)
 _logging.getLogger("UFL").setLevel(_logging.ERROR)
 
+from hybrid.continuum.analysis import Analysis  # noqa: E402
 from hybrid.continuum.elastic import solve_elastic  # noqa: E402
 from hybrid.continuum.plastic import NewtonOptions, PlasticSolver  # noqa: E402
 from hybrid.continuum.state import ContinuumState  # noqa: E402
 from hybrid.continuum.strength_reduction import factor_of_safety  # noqa: E402
 
-__all__ = ["ContinuumState", "NewtonOptions", "PlasticSolver", "factor_of_safety",
+__all__ = ["Analysis", "ContinuumState", "NewtonOptions", "PlasticSolver", "factor_of_safety",
            "solve_elastic"]

@@ -22,8 +22,9 @@ Globalisation, for non-associated flow (psi < phi) where plain Newton stalls:
     restarted from the last converged state with half its size, down to ``min_increment``
     times the requested one; after each converged increment the size grows by ``growth``
     (1.5), up to the requested one. A stage that cannot go on is returned as an incomplete
-    :class:`Analysis` holding the last converged factor: the caller decides whether that is
-    the answer (a collapse load) or an error (:meth:`Analysis.require`).
+    :class:`~hybrid.continuum.analysis.Analysis` holding the last converged factor: the
+    caller decides whether that is the answer (a collapse load) or an error
+    (:meth:`Analysis.require`).
 Convergence: ||R|| <= ``tolerance`` max(||f_ref||, 1) on the free dofs, where f_ref is the
 internal force vector of the current stress state (scale-free).
 """
@@ -47,6 +48,7 @@ from petsc4py import PETSc
 from hybrid.constitutive.mohr_coulomb import mohr_coulomb_update
 from hybrid.constitutive.softening import characteristic_length
 from hybrid.constitutive.table import kernel_table
+from hybrid.continuum.analysis import Analysis, largest_nodal_norm
 from hybrid.continuum.fields import (
     Discretisation,
     MaterialFields,
@@ -58,12 +60,10 @@ from hybrid.continuum.fields import (
 from hybrid.continuum.quadrature import QuadratureSpace, evaluate_at_points
 from hybrid.continuum.solver import lu_solver
 from hybrid.continuum.state import ContinuumState
-from hybrid.errors import StageIncomplete
 from hybrid.materials import Material
 from hybrid.model import Model
 
-__all__ = ["Analysis", "IncrementControl", "NewtonOptions", "PlasticSolver", "StepRecord",
-           "largest_nodal_norm", "material_table", "plateau_rise", "runaway_ratio"]
+__all__ = ["IncrementControl", "NewtonOptions", "PlasticSolver", "StepRecord", "material_table"]
 
 log = logging.getLogger(__name__)
 
@@ -587,121 +587,3 @@ class PlasticSolver:
                               self.plastic_strain.reshape(n, nqp).copy(),
                               self.yielded.reshape(n, nqp).copy(), info, self.active.copy(),
                               self.strength_factor)
-
-
-@dataclass
-class Analysis:
-    """Outcome of a stage: the target reached (``completed``) or the last converged factor.
-
-    Attributes:
-        completed: True when the stage reached its target.
-        factor: the last factor with equilibrium (load factor, fraction of the self-weight or
-            of the lift's weight).
-        cuts: increments halved on the way.
-        stage: what was applied, in words ("self-weight", "load", "lift 'fill_2'").
-        target: the factor asked for.
-    """
-
-    completed: bool
-    factor: float
-    cuts: int
-    stage: str = "load"
-    target: float = 1.0
-
-    def message(self) -> str:
-        """What happened, in a sentence a user can act on."""
-        if self.completed:
-            return f"{self.stage}: completed ({self.target:.6g})"
-        if self.stage == "self-weight":
-            return (f"self-weight carried up to {100 * self.factor:.0f} %: no equilibrium "
-                    "under the full weight at these strengths (unstable under gravity, "
-                    "F < 1, or Newton did not converge); run the strength search from a "
-                    "stronger state (factor_of_safety(..., gravity_steps=...)) or check the "
-                    "strengths and supports")
-        if self.stage.startswith("lift"):
-            return (f"{self.stage} placed with {100 * self.factor:.0f} % of its weight: no "
-                    "equilibrium beyond (the structure collapses during this lift, or Newton "
-                    "did not converge)")
-        return (f"{self.stage} factor {self.factor:.6g} of the target {self.target:.6g}: no "
-                "equilibrium beyond (collapse, or Newton did not converge)")
-
-    def require(self) -> Analysis:
-        """Return self when completed; otherwise raise :class:`StageIncomplete`."""
-        if not self.completed:
-            raise StageIncomplete(self.message())
-        return self
-
-    def require_limit(self, displacement: Sequence[float], force: Sequence[float], *,
-                      jump: float = 10.0) -> Analysis:
-        """A displacement-controlled push (a rigid footing, a wall moved).
-
-        The push is complete, or stopped on the limit load.
-
-        An incomplete push counts as having found the limit when the structure's stiffness
-        has fallen: d(force)/d(displacement) of the last step below 1/``jump`` of the first
-        (or negative: the force falls); otherwise Newton stopped before the limit and
-        :class:`StageIncomplete` is raised.
-        """
-        if self.completed:
-            return self
-        ratio = runaway_ratio(force, displacement)
-        if ratio >= jump or ratio < 0.0:
-            return self
-        raise StageIncomplete(
-            f"{self.message()}; the force was still rising (stiffness of the last step "
-            f"1/{ratio:.3g} of the first, not below 1/{jump:g}): no limit load was reached. "
-            "Use more steps or a finer mesh")
-
-    def require_collapse(self, load: Sequence[float], displacement: Sequence[float], *,
-                         jump: float = 10.0) -> Analysis:
-        """A load-controlled ramp stopped short of its target.
-
-        It counts as a collapse only if the displacement ran away (:func:`runaway_ratio` of
-        the last step >= ``jump``).
-        """
-        if self.completed:
-            return self
-        ratio = runaway_ratio(load, displacement)
-        if ratio >= jump:
-            return self
-        raise StageIncomplete(
-            f"{self.message()}; the displacement did not run away (d u / d load of the last "
-            f"step {ratio:.3g} times that of the first, below {jump:g}): Newton did not "
-            "converge before a collapse. Use more steps or a finer mesh")
-
-
-def largest_nodal_norm(values: np.ndarray, comm: Any) -> float:
-    """Largest |v| over the nodes of a 2-D vector field given by its dof values.
-
-    Over all ranks (collective).
-    """
-    local = float(np.max(np.linalg.norm(np.reshape(values, (-1, 2)), axis=1), initial=0.0))
-    return comm.allreduce(local, op=MPI.MAX)
-
-
-def plateau_rise(x: Sequence[float], y: Sequence[float], tail: float = 0.2) -> float:
-    """Rise of ``y`` over the last ``tail`` of the range of ``x``, relative to its end value.
-
-    0 on a plateau; ``y`` at the start of the tail is the first point inside it.
-    """
-    xa, ya = np.asarray(x, float), np.asarray(y, float)
-    if len(xa) < 2 or ya[-1] == 0.0:
-        return math.inf
-    inside = xa >= xa[-1] - tail * (xa[-1] - xa[0])
-    return float((ya[-1] - ya[inside][0]) / abs(ya[-1]))
-
-
-def runaway_ratio(factor: Sequence[float], displacement: Sequence[float]) -> float:
-    """Ratio of d(displacement)/d(factor) in the last step to that in the first.
-
-    At a collapse the displacement runs away. 1 with fewer than three points; inf when the
-    first step did not move and the last did; negative when the factor fell in the last step.
-    """
-    f, u = np.asarray(factor, float), np.asarray(displacement, float)
-    if len(f) < 3:
-        return 1.0
-    first = (u[1] - u[0]) / (f[1] - f[0])
-    last = (u[-1] - u[-2]) / (f[-1] - f[-2])
-    if first <= 0.0:
-        return math.inf if last > 0.0 else 1.0
-    return float(last / first)

@@ -20,8 +20,9 @@ import numpy as np
 from dolfinx import fem
 from mpi4py import MPI
 
+from hybrid.continuum.analysis import largest_nodal_norm
 from hybrid.continuum.fields import strain
-from hybrid.continuum.plastic import PlasticSolver, largest_nodal_norm
+from hybrid.continuum.plastic import PlasticSolver
 from hybrid.continuum.state import ContinuumState
 from hybrid.continuum.strength_reduction import SafetyResult, StrengthSearch, factor_of_safety
 from hybrid.geometry import GeometryError, MeshData

@@ -39,12 +39,8 @@ from typing import Any
 
 import numpy as np
 
-from hybrid.continuum.plastic import (
-    IncrementControl,
-    PlasticSolver,
-    largest_nodal_norm,
-    runaway_ratio,
-)
+from hybrid.continuum.analysis import largest_nodal_norm, runaway_ratio
+from hybrid.continuum.plastic import IncrementControl, PlasticSolver
 from hybrid.continuum.probe import evaluate
 from hybrid.continuum.state import ContinuumState
 from hybrid.errors import StageIncomplete

@@ -1,18 +1,23 @@
-"""Measures of a discrete run on its interfaces: slip, the slip surface and where it runs.
+"""Measures of a discrete run: slip on its interfaces, the slip surface, a slope's run-out.
 
 Units: m. An interface is the edge two elements shared at the start; its two node pairs
 coincided then, so their separation is the slip (sliding and opening together).
+:class:`SlipSurface` gathers the slip-surface measures of a run; :class:`SlopeMarks` picks a
+slope's crest and toe at the start of a run and measures how far they moved at its end.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
 from hybrid.discrete.state import DiscreteState
 
-__all__ = ["interface_slip", "slip_surface", "slip_trace", "slipped_interfaces"]
+__all__ = ["interface_slip", "slip_surface", "slip_trace", "slipped_interfaces", "SlipSurface",
+           "SlopeMarks", "SlopeMovement"]
 
 
 def interface_slip(state: DiscreteState) -> np.ndarray:
@@ -61,3 +66,114 @@ def slipped_interfaces(state: DiscreteState, thresholds: Sequence[float],
                          **{name: int(mask[pairs].any(axis=1).sum())
                             for name, mask in element_sets.items()}}
     return out
+
+
+@dataclass(frozen=True)
+class SlipSurface:
+    """The slip surface of a run: the failed interfaces that slipped at least ``min_slip``.
+
+    Attributes:
+        min_slip: the slip that puts a failed interface on the surface [m].
+        interfaces: (n_interfaces,) True for its interfaces (:func:`slip_surface`).
+        by_threshold: :func:`slipped_interfaces` at ``min_slip`` and the further thresholds.
+        trace: :func:`slip_trace` of the surface.
+    """
+
+    min_slip: float
+    interfaces: np.ndarray
+    by_threshold: dict[str, dict[str, int]]
+    trace: list[list[float]]
+
+    @classmethod
+    def of(cls, state: DiscreteState, min_slip: float, element_sets: Mapping[str, np.ndarray],
+           thresholds: Sequence[float] = (0.5, 1.0, 2.0)) -> SlipSurface:
+        """Measure the slip surface of ``state``.
+
+        Args:
+            state: the state at the end of the run.
+            min_slip: slip that puts a failed interface on the surface [m].
+            element_sets: named (n_elements,) masks whose interfaces on the surface are
+                counted (:func:`slipped_interfaces`).
+            thresholds: further slips [m] at which the failed interfaces are counted.
+        """
+        on_surface = slip_surface(state, min_slip)
+        by_threshold = slipped_interfaces(state, (min_slip, *thresholds), element_sets)
+        return cls(min_slip, on_surface, by_threshold, slip_trace(state, on_surface))
+
+    @property
+    def through(self) -> dict[str, int]:
+        """Counts at ``min_slip``: "interfaces" and the interfaces of each element set."""
+        return self.by_threshold[f"{self.min_slip:g}"]
+
+    def lines(self, state: DiscreteState) -> dict[str, np.ndarray]:
+        """The surface's interfaces [m] as ``lines`` of :func:`plot_configuration`.
+
+        One segment per interface, on its first element's side, in the current geometry;
+        labelled with ``min_slip``.
+        """
+        segments = state.x[state.interface_nodes[self.interfaces][:, :2]]
+        return {f"slip surface: slipped >= {self.min_slip:g} m": segments}
+
+
+class SlopeMovement(NamedTuple):
+    """How far a slope moved (:meth:`SlopeMarks.movement`) [m].
+
+    Attributes:
+        toe_dx: x-displacement of the toe node (negative towards -x).
+        crest_drop: mean settlement of the crest nodes (positive down).
+        run_out: largest movement of a node of the slope towards the side it faces.
+    """
+
+    toe_dx: float
+    crest_drop: float
+    run_out: float
+
+
+@dataclass(frozen=True)
+class SlopeMarks:
+    """Nodes of a slope picked at the start of a run, to measure its movement at the end.
+
+    Displacements count from the state's reference geometry (``x_ref``: the start of the
+    discrete phase).
+
+    Attributes:
+        nodes: the slope's nodes.
+        crest: the nodes near the top of the slope (see :meth:`pick`).
+        toe: the node furthest towards the side the slope faces.
+        facing: -1 when the slope faces -x (it runs out towards -x), +1 when it faces +x.
+    """
+
+    nodes: np.ndarray
+    crest: np.ndarray
+    toe: int
+    facing: int = -1
+
+    @classmethod
+    def pick(cls, state: DiscreteState, elements: np.ndarray, *,
+             crest_x: tuple[float, float], crest_depth: float = 0.5,
+             facing: int = -1) -> SlopeMarks:
+        """Pick the nodes of the slope made of ``elements`` in the current geometry.
+
+        Args:
+            state: the state at the start of the run.
+            elements: (n_elements,) mask of the slope's elements.
+            crest_x: the crest's x range [m] (open interval).
+            crest_depth: the crest nodes lie less than this below the slope's highest node
+                [m].
+            facing: -1 (the toe is the node of smallest x) or +1 (largest x).
+        """
+        if facing not in (-1, 1):
+            raise ValueError(f"facing = {facing!r}: -1 (the slope faces -x) or +1 (+x)")
+        nodes = np.unique(state.element_nodes[elements])
+        x, y = state.x[nodes, 0], state.x[nodes, 1]
+        top = float(y.max())
+        crest = nodes[(y > top - crest_depth) & (x > crest_x[0]) & (x < crest_x[1])]
+        toe = int(nodes[np.argmax(facing * x)])
+        return cls(nodes, crest, toe, facing)
+
+    def movement(self, state: DiscreteState) -> SlopeMovement:
+        """Toe, crest and largest movement of the slope in ``state``."""
+        u = state.x - state.x_ref
+        return SlopeMovement(toe_dx=float(u[self.toe, 0]),
+                             crest_drop=-float(np.mean(u[self.crest, 1])),
+                             run_out=float(np.max(self.facing * u[self.nodes, 0])))

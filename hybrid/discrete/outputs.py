@@ -11,7 +11,8 @@ solver writes the final state where it was not written yet, and the GIF.
   each run (a restart is bit for bit);
 - :class:`ProgressBar`: a tqdm bar per run.
 
-:func:`standard_outputs` builds the usual set from the cases' parameters.
+:func:`standard_outputs` builds the usual set from the cases' parameters; :func:`frame_interval`
+spaces a number of frames over a run.
 """
 
 from __future__ import annotations
@@ -25,7 +26,8 @@ from hybrid.discrete.ledger import EnergyLedger
 from hybrid.discrete.solver import ExplicitSolver, Observer, RunResult
 from hybrid.discrete.state import DiscreteState
 
-__all__ = ["XdmfSeries", "Frames", "Checkpoints", "ProgressBar", "standard_outputs"]
+__all__ = ["XdmfSeries", "Frames", "Checkpoints", "ProgressBar", "standard_outputs",
+           "frame_interval"]
 
 
 def _check_every(name: str, every: int) -> int:
@@ -237,6 +239,16 @@ def standard_outputs(out_dir: str | Path | None, *, output_every: int = 0,
     if progress:
         obs.append(ProgressBar())
     return obs
+
+
+def frame_interval(duration: float, dt: float, frames: int) -> int:
+    """Steps between outputs for about ``frames`` frames over ``duration`` [s] in steps of ``dt``.
+
+    At least 1; 0 (no outputs) when ``frames`` is 0.
+    """
+    if int(frames) != frames or frames < 0:
+        raise ValueError(f"frames = {frames!r}: must be an integer >= 0")
+    return max(int(duration / dt) // int(frames), 1) if frames else 0
 
 
 def _snapshot(state: DiscreteState, path: Path) -> Path:

@@ -43,6 +43,8 @@ class Handover:
             stood at handover; ``discrete.external_force`` starts equal to it.
         boundary_nodes: boundary name -> discrete node indices on it.
         report: counts (elements, nodes, mass, region size) for the summary.
+        material_names: the cell-group name of each material (``element_material`` indexes
+            it).
     """
 
     discrete: Any
@@ -51,6 +53,7 @@ class Handover:
     load_forces: np.ndarray
     boundary_nodes: dict[str, np.ndarray] = field(default_factory=dict)
     report: dict[str, Any] = field(default_factory=dict)
+    material_names: tuple[str, ...] = ()
 
     def set_load_factor(self, factor: float) -> None:
         """Scale the surface loads carried over (1 = as at handover, 0 = removed)."""
@@ -112,7 +115,8 @@ def start_from_snapshot(snapshot: CellSnapshot, *, splittable: np.ndarray,
               "strength_factor": float(s.strength_factor),
               "strengths": {m.name: {"cohesion_kPa": m.cohesion, "phi_deg": m.phi,
                                      "psi_deg": m.psi} for m in s.materials if m.is_plastic}}
-    return Handover(disc, splittable, frozen, load_forces, boundary_nodes, report)
+    return Handover(disc, splittable, frozen, load_forces, boundary_nodes, report,
+                    tuple(s.material_names))
 
 
 def _boundaries(s: CellSnapshot, disc: DiscreteState) -> tuple[dict[str, np.ndarray],

@@ -1,0 +1,83 @@
+"""A discrete run to rest with the standard outputs and figures (e.g. after a handover).
+
+:func:`run_to_rest` runs a state with an :class:`~hybrid.discrete.solver.ExplicitSolver`
+until it comes to rest or to a time limit, with the observers of
+:func:`~hybrid.discrete.outputs.standard_outputs` (XDMF series, PNG frames and GIF, progress
+bar) and figures of the configuration (:func:`~hybrid.discrete.figures.plot_configuration`)
+at the start and at chosen times. What the run measures is left to the caller
+(:mod:`hybrid.discrete.measures`, :mod:`hybrid.discrete.energy`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+from hybrid.discrete.figures import Snapshots, plot_configuration
+from hybrid.discrete.outputs import frame_interval, standard_outputs
+from hybrid.discrete.solver import ExplicitSolver, RunOptions, RunResult
+from hybrid.discrete.state import DiscreteState
+
+__all__ = ["RestRun", "run_to_rest"]
+
+
+@dataclass
+class RestRun:
+    """What :func:`run_to_rest` did.
+
+    Attributes:
+        result: the solver's :class:`~hybrid.discrete.solver.RunResult`.
+        figures: the configuration PNGs written: the start, then the snapshots in time order.
+        outputs: the files of the observers other than PNG frames (XDMF, HDF5, GIF).
+    """
+
+    result: RunResult
+    figures: list[Path]
+    outputs: list[Path]
+
+
+def run_to_rest(state: DiscreteState, out: str | Path, options: RunOptions, *,
+                until_time: float, rest: float, rest_min_steps: int = 2000,
+                frames: int = 0, snapshot_times: Sequence[float] = (),
+                window: tuple[float, float, float, float] | None = None,
+                progress: bool = True, prefix: str = "discrete_",
+                check_every: int = 50) -> RestRun:
+    """Run ``state`` (advanced in place) to rest, or to ``until_time``, with outputs.
+
+    Writes in ``out``: ``{prefix}t0.png`` (the start: plastic strain, bonds intact),
+    ``{prefix}t{t:g}.png`` when the time first reaches each of ``snapshot_times`` (failed
+    interfaces in red) and, in ``out/discrete``, the XDMF series and the PNG frames of
+    :func:`~hybrid.discrete.outputs.standard_outputs`.
+
+    Args:
+        state: the discrete state (supports set).
+        out: the output folder.
+        options: the solver's options; ``options.dt`` is needed when ``frames`` > 0.
+        until_time: the run stops at this time [s] at the latest.
+        rest: kinetic / strain energy ratio taken as rest (``ExplicitSolver.run``'s
+            ``until_rest``).
+        rest_min_steps: steps before rest may stop the run.
+        frames: about this many XDMF / PNG frames over ``until_time`` (0: none).
+        snapshot_times: times [s] of the configuration snapshots.
+        window: (xmin, xmax, ymin, ymax) [m] of the figures (None: all elements).
+        progress: a progress bar.
+        prefix: start of the figures' file names.
+        check_every: steps between the run's checks (rest, snapshots, energy history).
+    """
+    out = Path(out)
+    if frames and options.dt is None:
+        raise ValueError("run_to_rest: frames > 0 needs options.dt (the frames are spaced in "
+                         "steps)")
+    figures = [plot_configuration(out / f"{prefix}t0.png", state, window=window,
+                                  title="Discrete start: plastic strain, bonds intact")]
+    snapshots = Snapshots(out, snapshot_times, prefix=f"{prefix}t", window=window,
+                          title="t = {time:.3g} s: failed interfaces (red), plastic strain")
+    every = frame_interval(until_time, options.dt, frames) if options.dt is not None else 0
+    observers = standard_outputs(out / "discrete", progress=progress, output_every=every)
+    with ExplicitSolver(state, options, observers=observers) as solver:
+        result = solver.run(until_time=until_time, until_rest=rest,
+                            rest_min_steps=rest_min_steps, on_check=snapshots,
+                            check_every=check_every)
+    return RestRun(result, figures + snapshots.paths,
+                   [f for f in solver.files if f.suffix != ".png"])
