@@ -186,7 +186,9 @@ class Material:
             the material has a strength.
         residual: the residual strength (``Strength``) reached by strain softening; None: no
             softening (perfect plasticity at the peak). c, phi and psi at most the peak ones,
-            psi at most phi; its ``tensile_strength`` None means its own apex c_r cot(phi_r).
+            psi at most phi. Its ``tensile_strength``: None keeps the peak's given cut-off (or,
+            none given, the apex c cot(phi) of the strength in force); a given value is at most
+            the peak cut-off.
         softening_displacement: u_r [m], the plastic slip across a shear band over which the
             strength falls linearly from peak to residual (``hybrid.constitutive.softening``:
             the law, and its regularisation by element size). Required with ``residual``;
@@ -270,12 +272,23 @@ class Material:
             raise _invalid(where, "cohesion", r.cohesion, f"in [0, peak {self.cohesion}] kPa")
         if not 0 <= r.phi <= self.phi:
             raise _invalid(where, "phi", r.phi, f"in [0, peak {self.phi}] degrees")
-        if not 0 <= r.psi <= r.phi:
-            raise _invalid(where, "psi", r.psi, f"in [0, residual phi = {r.phi}] degrees")
+        if not 0 <= r.psi <= min(r.phi, self.psi):
+            raise _invalid(where, "psi", r.psi, f"in [0, min(residual phi = {r.phi}, peak psi "
+                           f"= {self.psi})] degrees")
         if r.cohesion == 0 and r.phi == 0:
             raise _invalid(where, "cohesion", r.cohesion, "> 0 or phi > 0 (some strength)")
-        if r.tensile_strength is not None and r.tensile_strength < 0:
-            raise _invalid(where, "tensile_strength", r.tensile_strength, ">= 0 kPa")
+        if r.tensile_strength is not None:
+            peak_cutoff = self.tensile_strength
+            if self.phi > 0:
+                apex = self.cohesion / math.tan(math.radians(self.phi))
+                peak_cutoff = apex if peak_cutoff is None else min(peak_cutoff, apex)
+            if peak_cutoff is None:
+                raise _invalid(owner, "tensile_strength", None, "given (the peak's tension "
+                               "cut-off) when the residual has one and phi = 0")
+            if not 0 <= r.tensile_strength <= peak_cutoff:
+                raise _invalid(where, "tensile_strength", r.tensile_strength,
+                               f"in [0, peak cut-off {peak_cutoff:g}] kPa (softening never "
+                               "raises it)")
         for key in ("phi", "psi"):
             _warn_radians(where, key, getattr(r, key))
         if u_r is None:

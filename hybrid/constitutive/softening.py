@@ -7,8 +7,12 @@ the plastic slip across a shear band one element wide::
     c   = c_p + (c_r - c_p) xi         phi = phi_p + (phi_r - phi_p) xi    (kPa, deg)
     psi = psi_p + (psi_r - psi_p) xi   t   = min(t_p + (t_r - t_p) xi, c cot phi)
 
+The tension cut-off is interpolated only between values given at either end (a residual left
+None keeps the peak's given cut-off, so it never rises; ``table.residual_tension``); given at
+neither end it is the apex ``c cot phi`` of the strength in force.
+
 ``kappa`` is the kernel's accumulated equivalent plastic strain ``sqrt(2/3 e_p : e_p)``; in
-simple shear with plastic shear strain ``gamma_p`` it is ``gamma_p / sqrt(3)``, so
+isochoric simple shear with plastic shear strain ``gamma_p`` it is ``gamma_p / sqrt(3)``, so
 ``sqrt(3) kappa h = gamma_p h`` is the plastic slip across a band of width ``h``. ``u_r`` is the
 material's ``softening_displacement`` [m]: the slip over which the strength falls to residual.
 ``h`` is the characteristic length of the point's element (:func:`characteristic_length`:
@@ -23,7 +27,8 @@ equation ``kappa_{n+1} = kappa_n + q(kappa_{n+1})`` is solved by bracketed false
 (Illinois). Its root lies in ``[kappa_n, kappa_r]`` (``kappa_r`` where the residual is reached);
 beyond ``kappa_r`` the strength is the residual one and the return is perfectly plastic. Where
 an element is larger than ``u_r G / (tau_p - tau_r)`` the softening is steeper than the elastic
-unloading and the point snaps back (several roots): the bracket still returns one of them.
+unloading and the point snaps back (the response jumps towards residual and the dissipated
+energy exceeds the regularised one): keep elements below that size.
 
 Consistent tangent: with ``sigma = R(eps, kappa)`` the return at fixed strength and
 ``kappa = kappa_n + Q(eps, kappa)``,
@@ -48,6 +53,7 @@ from hybrid.constitutive.principal import (
 from hybrid.constitutive.table import (
     COHESION,
     COS_PHI,
+    NO_TENSION_CUTOFF,
     PEAK_PHI,
     PEAK_PSI,
     RESIDUAL_COHESION,
@@ -107,16 +113,17 @@ def strength_at(table, m, xi):
     if xi <= 0.0:
         return (table[m, COHESION], table[m, SIN_PHI], table[m, COS_PHI], table[m, SIN_PSI],
                 table[m, TENSION])
+    t = table[m, RESIDUAL_TENSION]  # NO_TENSION_CUTOFF: none given, the apex in force
     if xi >= 1.0:
         c = table[m, RESIDUAL_COHESION]
         phi = table[m, RESIDUAL_PHI]
         psi = table[m, RESIDUAL_PSI]
-        t = table[m, RESIDUAL_TENSION]
     else:
         c = table[m, COHESION] + (table[m, RESIDUAL_COHESION] - table[m, COHESION]) * xi
         phi = table[m, PEAK_PHI] + (table[m, RESIDUAL_PHI] - table[m, PEAK_PHI]) * xi
         psi = table[m, PEAK_PSI] + (table[m, RESIDUAL_PSI] - table[m, PEAK_PSI]) * xi
-        t = table[m, TENSION] + (table[m, RESIDUAL_TENSION] - table[m, TENSION]) * xi
+        if t < NO_TENSION_CUTOFF:  # given at one end at least: both ends finite
+            t = table[m, TENSION] + (t - table[m, TENSION]) * xi
     sin_phi = math.sin(phi)
     cos_phi = math.cos(phi)
     if sin_phi > 0.0:

@@ -74,8 +74,25 @@ def kernel_row(material: Material) -> tuple[float, ...]:
     phi, psi = math.radians(p.phi), math.radians(p.psi)
     u_r = 0.0 if material.residual is None else float(material.softening_displacement or 0.0)
     return (K, G, p.cohesion, math.sin(phi), math.cos(phi), math.sin(psi), tension_cutoff(p),
-            r.cohesion, phi, math.radians(r.phi), psi, math.radians(r.psi), tension_cutoff(r),
-            u_r)
+            r.cohesion, phi, math.radians(r.phi), psi, math.radians(r.psi),
+            residual_tension(p, r), u_r)
+
+
+def residual_tension(peak: Strength, residual: Strength) -> float:
+    """The residual column t_r of the tension cut-off [kPa] (``softening.strength_at``).
+
+    A cut-off given at either end is interpolated linearly between finite values and never
+    rises as the material softens: a residual left None keeps the peak's given cut-off (at
+    most the residual apex), a residual given with a peak left None falls from the peak apex.
+    Given at neither end, the cut-off is the apex c cot(phi) of the strength in force
+    (``NO_TENSION_CUTOFF`` marks it).
+    """
+    apex = tension_cutoff(Strength(cohesion=residual.cohesion, phi=residual.phi))
+    if residual.tensile_strength is not None:
+        return min(float(residual.tensile_strength), apex)
+    if peak.tensile_strength is not None:
+        return min(tension_cutoff(peak), apex)
+    return NO_TENSION_CUTOFF
 
 
 def kernel_table(materials: Sequence[Material],

@@ -13,7 +13,7 @@ tau = |t - sigma_N n| the interface fails
 with the interface properties of the weaker of the two materials (the smaller of each of
 c, tan phi and the tensile strength). An interface also fails where the material beside it has
 softened to its residual strength (``hybrid.constitutive.softening``): when the Gauss points
-next to the edge on either side have reached the residual slip on average, the softened band
+next to the edge on either side have all reached the residual slip, the softened band
 becomes a discontinuity, and the failed interface is from then on a frictional contact at the
 residual angle without cohesion (``Contact.phi`` defaults to the residual phi).
 Optionally (``split_plastic_strain``, an addition to the thesis) an interface also fails when
