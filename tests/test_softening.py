@@ -348,3 +348,19 @@ def test_contact_friction_defaults_to_the_residual_angle():
                  residual=Strength(cohesion=0.0, phi=12.0), softening_displacement=0.2)
     *_, contact = material_rows([m], 1.0)
     assert contact[0, 2] == pytest.approx(math.tan(math.radians(12.0)), rel=1e-15)
+
+
+def test_a_cap_below_the_residual_plastic_strain_is_warned():
+    """plastic_strain_cap would stop a softening element before its residual (kappa_r =
+    u_r / (sqrt(3) h) = 0.0231 for h = 0.5 m): the solver says so; without a cap it is quiet."""
+    import warnings
+
+    from hybrid.discrete.solver import ExplicitSolver, RunOptions
+
+    st = rectangle(1.0, 0.5, 2, 1, material=_tresca(), gravity=(0.0, 0.0))
+    with pytest.warns(UserWarning, match="plastic_strain_cap = 0.01 is below"):
+        ExplicitSolver(st, RunOptions(plastic_strain_cap=0.01))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        ExplicitSolver(st, RunOptions(plastic_strain_cap=0.05))
+        ExplicitSolver(st, RunOptions())

@@ -26,6 +26,7 @@ from __future__ import annotations
 import logging
 import math
 import time as _time
+import warnings
 from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field, fields
 from pathlib import Path
@@ -33,6 +34,7 @@ from typing import Any
 
 import numpy as np
 
+from hybrid.constitutive.table import SOFTENING_DISPLACEMENT
 from hybrid.discrete import integrate, ties
 from hybrid.discrete.ledger import EnergyLedger
 from hybrid.discrete.state import (
@@ -186,6 +188,27 @@ class Observer:
         """The solver is closed (``final``: normally, not after an error)."""
 
 
+
+def _warn_cap_before_residual(state: DiscreteState, cap: float) -> None:
+    """Warn when ``plastic_strain_cap`` stops softening elements before their residual.
+
+    A capped Gauss point responds elastically, so a softening element whose residual plastic
+    strain u_r / (sqrt(3) h) lies above the cap never reaches residual, and the interfaces
+    beside it never fail as softened.
+    """
+    u_r = state.material_table[state.element_material, SOFTENING_DISPLACEMENT]
+    soft = u_r > 0.0
+    if not math.isfinite(cap) or not soft.any():
+        return
+    kappa_r = u_r[soft] / (math.sqrt(3.0) * state.element_length[soft])
+    if float(kappa_r.max()) > cap:
+        warnings.warn(f"plastic_strain_cap = {cap:g} is below the residual plastic strain of "
+                      f"{int((kappa_r > cap).sum())} softening elements (up to "
+                      f"{float(kappa_r.max()):.3g}): they stop yielding before residual and "
+                      "never split as softened; leave the cap unset (None) with softening",
+                      UserWarning, stacklevel=3)
+
+
 class ExplicitSolver:
     """Explicit dynamics of a :class:`DiscreteState` (advanced in place) with fixed options.
 
@@ -227,6 +250,7 @@ class ExplicitSolver:
         self.n_split = 0  # interfaces broken over the solver's lifetime
         self.active_contacts = 0  # contact pairs in contact at the last step with pairs
         self._cap = math.inf if o.plastic_strain_cap is None else float(o.plastic_strain_cap)
+        _warn_cap_before_residual(state, self._cap)
         self._split_limit = (math.inf if o.split_plastic_strain is None
                              else o.split_plastic_strain)
         self._split_every = int(o.split_every)
