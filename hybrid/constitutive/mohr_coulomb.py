@@ -177,8 +177,6 @@ def mohr_coulomb_point(
         # the strength in force at kappa_{n+1} (the peak without softening)
         cohesion, sin_phi, cos_phi, sin_psi, t = strength_at(
             table, m, softening_fraction(table, m, kappa + deq, length))
-        if sin_phi > 0.0:
-            t = min(t, cohesion * cos_phi / sin_phi)
         cc = c * c
         ss = s * s
         cs = c * s

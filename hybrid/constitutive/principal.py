@@ -19,6 +19,7 @@ import numpy as np
 __all__ = [
     "REGION_NAMES",
     "equivalent_plastic_strain",
+    "principal_plastic_strain",
     "principal_tangent",
     "return_principal",
     "yield_function",
@@ -290,16 +291,23 @@ def yield_function(sxx, syy, szz, sxy, cohesion, sin_phi, cos_phi):
 
 
 @numba.njit(cache=True, inline="always")
-def equivalent_plastic_strain(d0, d1, d2, K, G):
-    """Equivalent plastic strain sqrt(2/3 e_p : e_p) of a return in principal axes.
+def principal_plastic_strain(d0, d1, d2, K, G):
+    """Principal plastic strains e_p = C (sigma_trial - sigma) of a return (tensor components).
 
-    ``d0, d1, d2`` are the principal components of sigma_trial - sigma [kPa]; the plastic
-    strain is e_p = C (sigma_trial - sigma) with the elastic compliance C of K and G (tensor
-    components, volumetric part included).
+    ``d0, d1, d2`` are the principal components of sigma_trial - sigma [kPa]; C is the
+    elastic compliance of K and G, volumetric part included.
     """
     mean = (d0 + d1 + d2) / 3.0
     ev = mean / (3.0 * K)
-    e0 = ev + (d0 - mean) / (2.0 * G)
-    e1 = ev + (d1 - mean) / (2.0 * G)
-    e2 = ev + (d2 - mean) / (2.0 * G)
+    return ev + (d0 - mean) / (2.0 * G), ev + (d1 - mean) / (2.0 * G), ev + (d2 - mean) / (2.0 * G)
+
+
+@numba.njit(cache=True, inline="always")
+def equivalent_plastic_strain(d0, d1, d2, K, G):
+    """Equivalent plastic strain sqrt(2/3 e_p : e_p) of a return in principal axes.
+
+    ``d0, d1, d2`` are the principal components of sigma_trial - sigma [kPa]
+    (``principal_plastic_strain`` gives e_p).
+    """
+    e0, e1, e2 = principal_plastic_strain(d0, d1, d2, K, G)
     return math.sqrt(2.0 / 3.0 * (e0 * e0 + e1 * e1 + e2 * e2))

@@ -48,6 +48,7 @@ import numpy as np
 from hybrid.constitutive.principal import (
     REGION_ELASTIC,
     equivalent_plastic_strain,
+    principal_plastic_strain,
     return_principal,
 )
 from hybrid.constitutive.table import (
@@ -219,11 +220,7 @@ def add_softening_tangent(s1, s2, s3, r1, r2, r3, ia, ib, iz, c, s, K, G, table,
     da, db = dr[ia], dr[ib]
     r_kappa = (da * cc + db * ss, da * ss + db * cc, dr[iz], (da - db) * cs)
     # plastic strain increment C (sigma_tr - sigma) in principal axes, then Voigt (eng. shear)
-    d = (s1 - r1, s2 - r2, s3 - r3)
-    mean = (d[0] + d[1] + d[2]) / 3.0
-    e = ((d[0] - mean) / (2.0 * G) + mean / (3.0 * K),
-         (d[1] - mean) / (2.0 * G) + mean / (3.0 * K),
-         (d[2] - mean) / (2.0 * G) + mean / (3.0 * K))
+    e = principal_plastic_strain(s1 - r1, s2 - r2, s3 - r3, K, G)
     q = math.sqrt(2.0 / 3.0 * (e[0] * e[0] + e[1] * e[1] + e[2] * e[2]))
     if q <= 0.0:
         return
