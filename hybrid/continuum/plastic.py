@@ -36,7 +36,7 @@ import math
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import ufl
@@ -62,6 +62,9 @@ from hybrid.continuum.solver import lu_solver
 from hybrid.continuum.state import ContinuumState
 from hybrid.materials import Material
 from hybrid.model import Model
+
+if TYPE_CHECKING:
+    from hybrid.continuum.control import ControlledPath, DisplacementControl
 
 __all__ = ["IncrementControl", "NewtonOptions", "PlasticSolver", "StepRecord", "material_table"]
 
@@ -234,6 +237,7 @@ class PlasticSolver:
         # the last converged increment, what drove it ("load" or "strength") and its size:
         # scaled, it is the first iterate of the next increment of the same kind
         self._last_increment: tuple[np.ndarray, str, float] | None = None
+        self._paths: dict[DisplacementControl, ControlledPath] = {}  # see :meth:`follow`
 
     # --- constitutive update -------------------------------------------------------------
     def _update_stress(self) -> None:
@@ -413,6 +417,23 @@ class PlasticSolver:
             if stop is not None and stop(self):
                 break
         return Analysis(True, current, control.cuts, stage, target)
+
+    def follow(self, control: DisplacementControl, target: float, steps: int, *,
+               stop: Callable[[PlasticSolver], bool] | None = None,
+               min_increment: float | None = None) -> Analysis:
+        """Drive the surface loads by a displacement (indirect displacement control).
+
+        Moves ``control``'s measure to ``target`` [m] in ``steps`` increments, the load factor
+        an unknown of each increment (:mod:`hybrid.continuum.control`). Past a peak the load
+        factor falls: a softening branch is followed as long as the measure keeps growing.
+        Returns an :class:`Analysis` whose factor is the displacement reached [m].
+        """
+        from hybrid.continuum.control import ControlledPath
+
+        path = self._paths.get(control)
+        if path is None:
+            path = self._paths[control] = ControlledPath(self, control)
+        return path.follow(target, steps, stop=stop, min_increment=min_increment)
 
     # --- gravity, stages, strength ----------------------------------------------------------
     def apply_gravity(self, steps: int = 1, *, min_increment: float | None = None) -> Analysis:
