@@ -1,6 +1,7 @@
 # hybrid: continuum -> discrete geomechanics.  Two commands for users:
 #   make demo   runs the main job (installs what is missing first)
 #   make test   lints (ruff, mypy) and runs the default test set (installs what is missing first)
+# make verify regenerates the committed verification report (docs/verification) from a full run.
 # Everything goes through Debian's /usr/bin/python3 and the project venv .venv
 # (never the `python3` first on PATH, which lacks dolfinx).
 
@@ -54,7 +55,7 @@ test-slow: setup
 	$(PY) -m pytest -q -m slow
 
 verify: setup
-	$(PY) -m hybrid verify --full
+	$(PY) -m hybrid verify --full --update-docs
 
 bench: setup
 	$(PY) -m hybrid bench --json results/bench.json
