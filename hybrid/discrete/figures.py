@@ -12,7 +12,7 @@ from typing import Any
 import numpy as np
 
 from hybrid.discrete.state import DiscreteState
-from hybrid.io import save_figure
+from hybrid.io import Box, check_box, save_figure
 
 __all__ = ["plot_configuration", "failed_segments", "Snapshots"]
 
@@ -28,13 +28,13 @@ def failed_segments(state: DiscreteState, *, reference: bool = False) -> np.ndar
 
 
 def plot_configuration(path: str | Path, state: DiscreteState, *, title: str = "",
-                       field: str = "plastic_strain", window: tuple | None = None,
+                       field: str = "plastic_strain", window: Box | None = None,
                        reference: bool = False, dpi: int = 100,
                        lines: dict[str, np.ndarray] | None = None) -> Path:
     """PNG of the elements (deformed, or ``reference`` shape) coloured by ``field``.
 
     ``field``: "plastic_strain" (Gauss-point mean [-]) or "sigma_yy" (mean vertical stress
-    [kPa]); the failed interfaces are drawn in red. ``window`` = (xmin, xmax, ymin, ymax) [m]
+    [kPa]); the failed interfaces are drawn in red. ``window`` = (xmin, ymin, xmax, ymax) [m]
     crops the view; ``lines`` = {label: segments (n, 2, 2) [m]} are drawn on top (e.g. a
     fitted slip line).
     """
@@ -69,8 +69,9 @@ def plot_configuration(path: str | Path, state: DiscreteState, *, title: str = "
         ax.legend(fontsize=8, loc="lower right")
     ax.autoscale()
     if window is not None:
-        ax.set_xlim(window[0], window[1])
-        ax.set_ylim(window[2], window[3])
+        xmin, ymin, xmax, ymax = check_box(window)
+        ax.set_xlim(xmin, xmax)
+        ax.set_ylim(ymin, ymax)
     ax.set_aspect("equal")
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
