@@ -156,6 +156,10 @@ def execute(main: Callable[..., CaseSummary], parameters: type, args: argparse.N
         return 0
     overrides = parse_overrides(parameters, args.overrides)
     kwargs: dict[str, Any] = dict(overrides)
+    if sys.stderr.isatty():  # stage and strength-search progress (a terminal only)
+        from hybrid.progress import enable
+
+        enable()
     if args.out:
         kwargs["out"] = args.out
     try:

@@ -43,3 +43,27 @@ def test_box_order_is_xmin_ymin_xmax_ymax():
         check_box((0.0, 3.0, -1.8, 0.6))  # the footing's window in the axis-limits order
     with pytest.raises(ValueError, match="four numbers"):
         check_box((0.0, 3.0, 1.0))
+
+
+def test_progress_is_quiet_unless_enabled_and_falls_back_to_lines(capsys, monkeypatch):
+    """The library shows no progress by default; enabled, without tqdm, a stage prints a
+    line with its desc, how far it is and the facts given."""
+    import sys
+
+    from hybrid import progress
+
+    bar = progress.progress("load", 1800.0, "kPa")
+    bar.update(900.0, factor=900.0)
+    bar.close()
+    assert capsys.readouterr().err == ""
+    monkeypatch.setitem(sys.modules, "tqdm", None)  # import tqdm fails
+    monkeypatch.setitem(sys.modules, "tqdm.auto", None)
+    progress.enable()
+    try:
+        bar = progress.Progress("load", 1800.0, "kPa", every=0.0)
+        bar.update(900.0, factor=900.0)
+        bar.close()
+    finally:
+        progress.enable(False)
+    err = capsys.readouterr().err
+    assert err.startswith("load: 900 / 1800 kPa factor 900") and err.count("\n") == 1
