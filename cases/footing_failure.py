@@ -229,7 +229,7 @@ def main(out: str | Path = "results/footing_failure", **overrides) -> CaseSummar
                          title="H2: footing load-settlement (settlement from the start)")
     plot_energy(out / "energy_loaded.png", loaded.history)
     plot_energy(out / "energy_rest.png", h)
-    plot_configuration(out / "final.png", disc, window=window,
+    plot_configuration(out / "final.png", disc, window=window, outline=True,
                        title=f"At rest: settlement {marks.total_settlement(disc):.3f} m "
                              f"({settlement():.3f} m since handover), "
                              f"{int((~disc.interface_intact).sum())} failed interfaces")
