@@ -1,6 +1,7 @@
 # hybrid: continuum -> discrete geomechanics.  Two commands for users:
 #   make demo   runs the main job (installs what is missing first)
 #   make test   lints (ruff, mypy) and runs the default test set (installs what is missing first)
+# make verify regenerates the committed verification report (docs/verification) from a full run.
 # Everything goes through Debian's /usr/bin/python3 and the project venv .venv
 # (never the `python3` first on PATH, which lacks dolfinx).
 
@@ -15,7 +16,7 @@ export NUMBA_CACHE_DIR ?= $(CURDIR)/.cache/numba
 export OMP_WAIT_POLICY ?= passive
 export MPLBACKEND ?= Agg
 
-.PHONY: deps setup demo test lint typecheck verify test-slow bench clean
+.PHONY: deps setup demo test lint typecheck verify docs test-slow bench clean
 
 # --- set-up (idempotent) ------------------------------------------------------
 deps:
@@ -54,7 +55,26 @@ test-slow: setup
 	$(PY) -m pytest -q -m slow
 
 verify: setup
-	$(PY) -m hybrid verify --full
+	$(PY) -m hybrid verify --full --update-docs
+
+# the hybrid cases behind docs/hybrid.md: their summaries (docs/summaries/, every figure the
+# docs quote; tests/test_docs_numbers.py checks the quotes) and figures (docs/figures/hybrid/)
+DOCS_RUN := results/docs
+docs: setup
+	$(PY) -m hybrid run cases/footing_failure.py --out $(DOCS_RUN)/h2 --set progress=false
+	$(PY) -m hybrid run cases/retaining_wall_collapse.py --out $(DOCS_RUN)/h3 --set progress=false
+	$(PY) -m hybrid run cases/toppling.py --out $(DOCS_RUN)/d10 --set progress=false
+	mkdir -p docs/summaries docs/figures/hybrid
+	for c in h2 h3 d10; do cp $(DOCS_RUN)/$$c/summary.json docs/summaries/$$c.json; done
+	cp $(DOCS_RUN)/h2/load_settlement.png docs/figures/hybrid/h2_load_settlement.png
+	cp $(DOCS_RUN)/h2/final.png docs/figures/hybrid/h2_final.png
+	cp $(DOCS_RUN)/h2/handover_plastic_strain.png docs/figures/hybrid/h2_handover_plastic_strain.png
+	cp $(DOCS_RUN)/h2/discrete/discrete.gif docs/figures/hybrid/h2_discrete.gif
+	cp $(DOCS_RUN)/h3/thrust_translation.png docs/figures/hybrid/h3_thrust_translation.png
+	cp $(DOCS_RUN)/h3/handover_plastic_strain.png docs/figures/hybrid/h3_handover_plastic_strain.png
+	cp $(DOCS_RUN)/h3/wedge.png docs/figures/hybrid/h3_wedge.png
+	cp $(DOCS_RUN)/h3/final.png docs/figures/hybrid/h3_final.png
+	cp $(DOCS_RUN)/d10/failures.png docs/figures/hybrid/d10_toppling_failures.png
 
 bench: setup
 	$(PY) -m hybrid bench --json results/bench.json

@@ -322,7 +322,7 @@ def discrete_phase(phase: ContinuumPhase, p: Parameters, out: Path) -> dict[str,
     half_crest = 0.5 * g.crest_width + 10.0  # the fill top near the axis
     slope = SlopeMarks.pick(disc, ~np.isin(group, GROUND), crest_x=(-half_crest, half_crest))
     mass0, n0 = float(disc.mass.sum()), disc.n_elements
-    window = (g.berm_toe - 40.0, g.downstream_toe + 20.0, g.foundation_level - 15.0,
+    window = (g.berm_toe - 40.0, g.foundation_level - 15.0, g.downstream_toe + 20.0,
               g.crest_level + 5.0)
     options = RunOptions(dt=0.5 * stable_time_step(disc, contact=True),
                          mass_damping=p.mass_damping, split_every=10,
@@ -389,7 +389,7 @@ def figures(out: Path, p: Parameters, mesh: MeshData, state: ContinuumState,
     window on the dam, with the core's profiles at the axis; with a factor of safety, the
     plastic strain and the mechanism at F with Bishop's critical circle."""
     g = section(p)
-    window = (g.berm_toe - 30.0, g.downstream_toe + 30.0, g.foundation_level - 25.0,
+    window = (g.berm_toe - 30.0, g.foundation_level - 25.0, g.downstream_toe + 30.0,
               g.crest_level + 3.0)
     core = np.isin(np.arange(mesh.num_owned_cells), mesh.cells("core")) & state.active
     column = Column(core, 0.0, g.foundation_level - g.trench_depth + 0.1, g.crest_level - 0.1,

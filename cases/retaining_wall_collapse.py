@@ -162,7 +162,7 @@ def main(out: str | Path = "results/retaining_wall_collapse", **overrides) -> Ca
     top = wall[np.argmax(disc.x[wall, 1])]
     x_top = float(disc.x[top, 0])
     mass0, n0 = float(disc.mass.sum()), disc.n_elements
-    window = (-p.front, p.length, -1.0, 1.1 * p.height)
+    window = (-p.front, -1.0, p.length, 1.1 * p.height)
     plot_configuration(out / "discrete_start.png", disc, window=window,
                        title="Discrete start (active state): plastic strain")
     # the back of the failed zone as the face top moves: fractions of H, the bar at wedge_at
@@ -180,7 +180,7 @@ def main(out: str | Path = "results/retaining_wall_collapse", **overrides) -> Ca
                 lines = {f"back of the failed zone: {angle:.1f} deg": [
                              [[a, 0.0], [a + p.height * ck, p.height]]],
                          "45 + phi/2": [[[a, 0.0], [a + p.height * rk, p.height]]]}
-                plot_configuration(out / "wedge.png", s, window=(-5.0, 15.0, -1.0, 11.0),
+                plot_configuration(out / "wedge.png", s, window=(-5.0, -1.0, 15.0, 11.0),
                                    lines=lines, reference=True,
                                    title=f"t = {s.time:.3g} s, face top moved {moved:.2g} m "
                                          "(reference shape)")
@@ -223,7 +223,7 @@ def main(out: str | Path = "results/retaining_wall_collapse", **overrides) -> Ca
     }
     summary.write(out / "summary.json")
     plot_energy(out / "energy.png", h)
-    plot_configuration(out / "final.png", disc, window=window,
+    plot_configuration(out / "final.png", disc, window=window, outline=True,
                        title=f"At rest (t = {res.time:.3g} s): run-out {-toe:.3g} m")
     return summary
 

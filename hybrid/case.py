@@ -20,7 +20,7 @@ from hybrid.io import CaseSummary
 from hybrid.scripts import import_script
 
 __all__ = ["CaseError", "parse_overrides", "load_case", "run_case", "case_arguments",
-           "uses_defaults"]
+           "uses_defaults", "describe", "parameter_notes"]
 
 
 class CaseError(ValueError):
@@ -92,17 +92,46 @@ def case_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--out", help="output folder (default: results/<case name>)")
     parser.add_argument("--set", dest="overrides", action="append", default=[],
                         metavar="NAME=VALUE", help="override a case parameter (repeatable)")
-    parser.add_argument("--list", action="store_true", help="list the case's parameters")
+    parser.add_argument("--list", action="store_true",
+                        help="list the case's parameters: default, unit, meaning")
+
+
+def parameter_notes(parameters: type) -> dict[str, str]:
+    """The comment after each field of ``parameters`` in its source (unit and meaning).
+
+    A case documents a field on its line, ``cohesion: float = 69.0  # c [kPa]``; a field
+    without one (or a class whose source is not available) maps to "".
+    """
+    import inspect
+    import io
+    import tokenize
+
+    names = {f.name for f in dataclasses.fields(parameters)}
+    notes = dict.fromkeys(names, "")
+    try:
+        source = inspect.getsource(parameters)
+    except (OSError, TypeError):
+        return notes
+    first: dict[int, str] = {}  # line -> first name on it
+    for tok in tokenize.generate_tokens(io.StringIO(source).readline):
+        line = tok.start[0]
+        if tok.type == tokenize.NAME and line not in first:
+            first[line] = tok.string
+        elif tok.type == tokenize.COMMENT and first.get(line) in names:
+            notes[first[line]] = tok.string.lstrip("#").strip()
+    return notes
 
 
 def describe(parameters: type) -> str:
-    """One line per parameter: name, default, type."""
-    lines = []
+    """One line per parameter: name = default, then its unit and meaning (``--list``)."""
+    notes = parameter_notes(parameters)
+    rows = []
     for f in dataclasses.fields(parameters):
         default = f.default if f.default is not dataclasses.MISSING else "(required)"
-        kind = getattr(f.type, "__name__", f.type)
-        lines.append(f"  {f.name} = {default!r}  ({kind})")
-    return "\n".join(lines)
+        rows.append((f.name, repr(default), notes[f.name]))
+    width = max((len(a) for a, _, _ in rows), default=0)
+    value = max((len(b) for _, b, _ in rows), default=0)
+    return "\n".join(f"  {a:<{width}} = {b:<{value}}  {c}".rstrip() for a, b, c in rows)
 
 
 def run_case(main: Callable[..., CaseSummary], parameters: type, argv: Sequence[str] | None = None,
@@ -127,6 +156,10 @@ def execute(main: Callable[..., CaseSummary], parameters: type, args: argparse.N
         return 0
     overrides = parse_overrides(parameters, args.overrides)
     kwargs: dict[str, Any] = dict(overrides)
+    if sys.stderr.isatty():  # stage and strength-search progress (a terminal only)
+        from hybrid.progress import enable
+
+        enable()
     if args.out:
         kwargs["out"] = args.out
     try:

@@ -1,4 +1,4 @@
-"""The ``hybrid`` command: info, run, bench."""
+"""The ``hybrid`` command: info, run, verify, bench (``--version``)."""
 
 from __future__ import annotations
 
@@ -66,6 +66,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     from hybrid.case import case_arguments
 
     parser = argparse.ArgumentParser(prog="hybrid", description=hybrid.__doc__.split("\n")[0])
+    parser.add_argument("--version", action="version", version=f"hybrid {hybrid.__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
     sub.add_parser("info", help="versions, threads, MPI, ffmpeg").set_defaults(func=_cmd_info)
     run = sub.add_parser("run", help="run a case script: hybrid run cases/x.py --out DIR")

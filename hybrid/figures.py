@@ -5,7 +5,7 @@ profiles up a vertical line and through a column of cells, the strength-reductio
 with a slip circle. Built on :func:`hybrid.io.plot_cell_field` and
 :func:`hybrid.io.gather_cells`: every function is collective under MPI and writes from rank 0;
 each returns the paths written (none on the other ranks). Axes in m, stresses in kPa
-(tension positive); ``window`` = (xmin, xmax, ymin, ymax) [m].
+(tension positive); ``window`` = (xmin, ymin, xmax, ymax) [m] (:data:`hybrid.io.Box`).
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 
-from hybrid.io import gather_cells, plot_cell_field, save_figure
+from hybrid.io import Box, check_box, gather_cells, plot_cell_field, save_figure
 
 if TYPE_CHECKING:
     from hybrid.continuum.staging import Construction
@@ -26,7 +26,7 @@ if TYPE_CHECKING:
 __all__ = ["Column", "window_overlay", "construction_figures", "plot_displacement_vectors",
            "plot_column_profiles", "safety_figures", "staged_figures"]
 
-Window = tuple[float, float, float, float]
+Window = Box
 
 
 class Column(NamedTuple):
@@ -48,9 +48,11 @@ class Column(NamedTuple):
 
 def window_overlay(window: Window) -> Callable[[Any], None]:
     """Overlay for :func:`~hybrid.io.plot_cell_field` that crops the axes to ``window``."""
+    xmin, ymin, xmax, ymax = check_box(window)
+
     def crop(ax: Any) -> None:
-        ax.set_xlim(window[0], window[1])
-        ax.set_ylim(window[2], window[3])
+        ax.set_xlim(xmin, xmax)
+        ax.set_ylim(ymin, ymax)
 
     return crop
 
@@ -127,10 +129,11 @@ def plot_displacement_vectors(path: str | Path, mesh: Any, state: Any, *, active
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    xmin, ymin, xmax, _ = check_box(window)
     centres = polys.mean(axis=1)
     fig, ax = plt.subplots(figsize=(11, 4.5), dpi=120)
-    show = ((centres[:, 0] > window[0]) & (centres[:, 0] < window[1])
-            & (centres[:, 1] > window[2]) & (placed > 0.5))
+    show = ((centres[:, 0] > xmin) & (centres[:, 0] < xmax)
+            & (centres[:, 1] > ymin) & (placed > 0.5))
     magnitude = np.linalg.norm(vectors, axis=1)
     q = ax.quiver(centres[show, 0], centres[show, 1], vectors[show, 0], vectors[show, 1],
                   magnitude[show], cmap="viridis", angles="xy", scale_units="xy",

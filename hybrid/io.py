@@ -17,7 +17,30 @@ from typing import Any
 import numpy as np
 
 __all__ = ["Check", "CaseSummary", "write_summary", "write_continuum_xdmf", "plot_cell_field",
-           "gather_cells", "continuum_figures"]
+           "gather_cells", "continuum_figures", "Box", "check_box"]
+
+#: a rectangle (xmin, ymin, xmax, ymax) [m]: the one order of every box (figure windows,
+#: contact bounds)
+Box = tuple[float, float, float, float]
+
+
+def check_box(box: Any, name: str = "window") -> Box:
+    """``box`` as a :data:`Box`; a clear error for a wrong length or the order of its corners.
+
+    (xmin, xmax, ymin, ymax), the axis-limits order, is refused where it shows (xmin > xmax).
+    """
+    try:
+        values = tuple(float(v) for v in box)
+    except (TypeError, ValueError):
+        values = ()
+    if len(values) != 4 or not all(math.isfinite(v) for v in values):
+        raise ValueError(f"{name} = {box!r}: give four numbers (xmin, ymin, xmax, ymax) [m]")
+    xmin, ymin, xmax, ymax = values
+    if not (xmin < xmax and ymin < ymax):
+        raise ValueError(f"{name} = {box!r}: the order is (xmin, ymin, xmax, ymax) [m] with "
+                         "xmin < xmax and ymin < ymax (not the axis-limits order xmin, xmax, "
+                         "ymin, ymax)")
+    return values
 
 STRESS_NAMES = ("sigma_xx", "sigma_yy", "sigma_zz", "sigma_xy")
 

@@ -1,4 +1,4 @@
-"""The verification registry behind ``hybrid verify``: C1-C10 of verification-targets.md.
+"""The verification registry behind ``hybrid verify``: the continuum cases C1-C10.
 
 Each entry names a case script (``cases/*.py``, a ``main(out=..., **overrides)`` returning a
 :class:`hybrid.io.CaseSummary` whose ``checks`` map names to :class:`hybrid.io.Check`), the
@@ -37,11 +37,17 @@ from typing import Any
 from hybrid.io import CaseSummary, Check
 
 __all__ = ["VerificationCase", "CASES", "CASES_DIR", "STATUSES", "run_case", "run_cases",
-           "select", "exit_code", "add_arguments", "command"]
+           "select", "exit_code", "add_arguments", "report_folder", "command",
+           "DEFAULT_OUT", "DOCS_REPORT"]
 
 log = logging.getLogger(__name__)
 
-CASES_DIR = Path(__file__).resolve().parent.parent / "cases"
+ROOT = Path(__file__).resolve().parent.parent
+CASES_DIR = ROOT / "cases"
+# the report of a plain `hybrid verify` (outside the repository's tracked files) and the
+# committed one that `hybrid verify --full --update-docs` (make verify) rewrites
+DEFAULT_OUT = Path("results/verify")
+DOCS_REPORT = ROOT / "docs" / "verification"
 
 # passed: every row with a bar passes; failed: a row misses its bar; reported: rows without
 # bars only; error: the case raised; not yet available: its script is not in cases/ yet.
@@ -56,7 +62,7 @@ class VerificationCase:
     """One row group of the verification report.
 
     Attributes:
-        id: "C1" ... (verification-targets.md).
+        id: "C1" ...
         title: the problem in a few words.
         case_script: path of the case script relative to the cases folder.
         overrides: parameters of the default (fast) run.
@@ -449,18 +455,39 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
                         help=f"comma-separated case ids (default: all of {', '.join(CASES)})")
     parser.add_argument("--json", type=Path, default=None, metavar="PATH",
                         help="also write the machine-readable results here")
-    parser.add_argument("--out", type=Path, default=Path("docs/verification"), metavar="DIR",
-                        help="report folder (default: docs/verification)")
-    parser.add_argument("--results", type=Path, default=Path("results/verify"), metavar="DIR",
-                        help="where the cases write their own outputs (default: results/verify)")
+    parser.add_argument("--out", type=Path, default=None, metavar="DIR",
+                        help=f"report folder (default: {DEFAULT_OUT})")
+    parser.add_argument("--results", type=Path, default=DEFAULT_OUT, metavar="DIR",
+                        help=f"where the cases write their own outputs (default: {DEFAULT_OUT})")
     parser.add_argument("--full", action="store_true",
                         help="full-size runs (default: reduced, fast overrides)")
+    parser.add_argument("--update-docs", action="store_true",
+                        help="write the report into the committed docs/verification "
+                             "(with --full, every case: `make verify`)")
+
+
+def report_folder(args: argparse.Namespace) -> Path:
+    """Where ``hybrid verify`` writes its report.
+
+    ``--out``; the committed :data:`DOCS_REPORT` with ``--update-docs`` (a full run of every
+    case only); else :data:`DEFAULT_OUT`.
+    """
+    if not args.update_docs:
+        return args.out or DEFAULT_OUT
+    if args.out is not None:
+        raise ValueError("--update-docs writes docs/verification: leave out --out")
+    if args.only or not args.full:
+        raise ValueError("--update-docs rewrites the committed report, which is one full run of "
+                         "every case: use `hybrid verify --full --update-docs` (make verify), "
+                         "without --only")
+    return DOCS_REPORT
 
 
 def command(args: argparse.Namespace) -> int:
     """Run ``hybrid verify``: run the cases, write the report, print the table."""
     from hybrid import report
 
+    out = report_folder(args)
     ids = None if not args.only else [s.strip() for s in args.only.split(",") if s.strip()]
 
     def progress(result: dict[str, Any]) -> None:
@@ -469,7 +496,7 @@ def command(args: argparse.Namespace) -> int:
         print(f"{result['id']}: {result['status']}{took}", flush=True)
 
     results = run_cases(ids, args.results, args.full, progress=progress)
-    md = report.write_report(results, args.out, full=args.full, json_path=args.json)
+    md = report.write_report(results, out, full=args.full, json_path=args.json)
     print()
     print(report.format_table(results))
     print(f"\nreport: {md}")

@@ -92,6 +92,42 @@ def test_plot_thrust_translation(tmp_path):
         report.plot_thrust_translation(tmp_path / "bad.png", [0.0, 1.0], [1.0], refs)
 
 
+def _tree(root):
+    """git status and the bytes of every file of the committed report."""
+    status = subprocess.run(["git", "status", "--porcelain", "--untracked-files=all"],
+                            cwd=root, capture_output=True, text=True, check=True).stdout
+    docs = root / "docs" / "verification"
+    return status, {p.relative_to(docs).as_posix(): p.read_bytes()
+                    for p in sorted(docs.rglob("*")) if p.is_file()}
+
+
+def test_verify_leaves_the_repository_alone(tmp_path):
+    """`hybrid verify --only C6` (as the README suggests) writes its report under
+    results/verify (ignored by git) and changes no file of the repository: git status and the
+    committed docs/verification are the same before and after. --update-docs refuses a partial
+    or fast run (the committed report is one full run of every case)."""
+    root = verification.ROOT
+    if not (root / ".git").exists():
+        pytest.skip("not a git checkout")
+    before = _tree(root)
+    proc = subprocess.run([sys.executable, "-m", "hybrid", "verify", "--only", "C6"],
+                          cwd=tmp_path, capture_output=True, text=True, timeout=600)
+    assert proc.returncode == 0, proc.stdout + proc.stderr
+    assert _tree(root) == before
+    report_md = tmp_path / "results" / "verify" / "report.md"
+    assert "| C6 |" in report_md.read_text()
+    assert list((tmp_path / "results" / "verify" / "figures").glob("C6_*.png"))
+    ignored = subprocess.run(["git", "check-ignore", "-q", "results/verify/report.md"],
+                             cwd=root)
+    assert ignored.returncode == 0, "results/ must stay ignored by git"
+    for argv in (["--only", "C6", "--full", "--update-docs"], ["--update-docs"]):
+        proc = subprocess.run([sys.executable, "-m", "hybrid", "verify", *argv], cwd=tmp_path,
+                              capture_output=True, text=True, timeout=60)
+        assert proc.returncode == 2 and "hybrid verify --full --update-docs" in proc.stderr
+        assert proc.stderr.count("\n") == 1, proc.stderr
+    assert _tree(root) == before
+
+
 def test_failing_row_gives_exit_code_1(tmp_path, monkeypatch):
     """C1 with one extra row whose reference is wrong (1 vs 2, bar 1 %): status failed, the
     row is marked FAIL in the report, and `hybrid verify` exits 1."""

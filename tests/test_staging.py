@@ -95,7 +95,7 @@ def test_construction_and_safety_figures(column, tmp_path):
     eps = built.strain.cell_mean(state)
     cells = np.zeros(mesh.num_owned_cells, bool)
     cells[mesh.cells("lift2:1")] = True
-    window = (-1.0, 3.0, -1.0, 5.0)
+    window = (-1.0, -1.0, 3.0, 5.0)
     paths = construction_figures(tmp_path, mesh, state, eps, active=state.active,
                                  window=window, when="test",
                                  column=Column(cells, 1.0, 0.1, 3.9, (3.0, 4.0), name="fill"))
@@ -114,7 +114,7 @@ def test_construction_and_safety_figures(column, tmp_path):
 def test_staged_figures(column, tmp_path):
     """The construction figures, and the safety figures only with a factor of safety."""
     _, mesh, solver, built = column
-    state, window = solver.state(), (-1.0, 3.0, -1.0, 5.0)
+    state, window = solver.state(), (-1.0, -1.0, 3.0, 5.0)
     paths = staged_figures(tmp_path / "a", mesh, state, built, window=window)
     assert {p.name for p in paths} == {f"end_of_construction_{n}.png" for n in (
         "sigma_yy", "sigma_xx", "sigma_xy", "yielded", "vertical_strain",

@@ -62,6 +62,7 @@ from hybrid.continuum.solver import lu_solver
 from hybrid.continuum.state import ContinuumState
 from hybrid.materials import Material
 from hybrid.model import Model
+from hybrid.progress import progress
 
 if TYPE_CHECKING:
     from hybrid.continuum.control import ControlledPath, DisplacementControl
@@ -404,18 +405,22 @@ class PlasticSolver:
         control = IncrementControl.of(size, self.options)
         if min_increment is not None:
             control.smallest = abs(size) * min_increment
+        start, bar = current, progress(stage, abs(target - current))
         while abs(target - current) > 1e-12 * max(1.0, abs(target)):
             inc = control.size if abs(control.size) < abs(target - current) else target - current
             record = self.step(0.0, inc) if gravity else self.step(inc, 0.0)
             if record is None:
                 if not control.cut():
                     log.info("%s: no equilibrium beyond factor %.6g", stage, current)
+                    bar.close()
                     return Analysis(False, current, control.cuts, stage, target)
                 continue
             control.grow()
             current = self.gravity_factor if gravity else self.load_factor
+            bar.update(abs(current - start), factor=current)
             if stop is not None and stop(self):
                 break
+        bar.close()
         return Analysis(True, current, control.cuts, stage, target)
 
     def follow(self, control: DisplacementControl, target: float, steps: int, *,
@@ -528,7 +533,7 @@ class PlasticSolver:
         if steps < 1:
             raise ValueError(f"activate: steps = {steps} must be >= 1")
         control = IncrementControl.of(1.0 / steps, self.options)
-        placed = 0.0
+        placed, bar = 0.0, progress(stage, 1.0)
         while placed < 1.0 - 1e-12:
             trial = min(placed + control.size, 1.0)
             weigh(trial)
@@ -536,10 +541,13 @@ class PlasticSolver:
                 if not control.cut():
                     weigh(placed)
                     log.info("%s: no equilibrium beyond %.4g of its weight", stage, placed)
+                    bar.close()
                     return Analysis(False, placed, control.cuts, stage)
                 continue
             control.grow()
             placed = trial
+            bar.update(placed)
+        bar.close()
         return Analysis(True, 1.0, control.cuts, stage)
 
     def set_strength_factor(self, factor: float) -> None:

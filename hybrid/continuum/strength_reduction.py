@@ -44,6 +44,7 @@ from hybrid.continuum.plastic import IncrementControl, PlasticSolver
 from hybrid.continuum.probe import evaluate
 from hybrid.continuum.state import ContinuumState
 from hybrid.errors import StageIncomplete
+from hybrid.progress import progress
 
 __all__ = ["SafetyResult", "StrengthSearch", "factor_of_safety"]
 
@@ -187,11 +188,13 @@ def factor_of_safety(solver: PlasticSolver, *, search: StrengthSearch | None = N
     before = solver.u.x.array.copy()
     failed = np.inf
     pending: list[float] = []
+    bar = progress("strength search", unit="trial")
     while True:
         confirming = bool(pending)
         size = pending.pop(0) if confirming else control.size
         trial = solver.strength_factor * (1.0 + size)
         if trial > search.highest_factor:
+            bar.close()
             raise StageIncomplete(
                 f"strength search: equilibrium up to F = {solver.strength_factor:.4g}, no "
                 f"failure below F = {search.highest_factor:g}: check the loads and supports "
@@ -200,6 +203,7 @@ def factor_of_safety(solver: PlasticSolver, *, search: StrengthSearch | None = N
         iterations = solver.iterations_total
         record = solver.step(strength_factor=trial)
         trials.append((trial, record is not None, solver.iterations_total - iterations))
+        bar.update(len(trials), F=solver.strength_factor)
         if record is None:
             if not confirming:
                 failed = trial
@@ -219,6 +223,7 @@ def factor_of_safety(solver: PlasticSolver, *, search: StrengthSearch | None = N
         before = u_before
         curve.append((trial, monitor()))
         control.grow()
+    bar.close()
     F = solver.strength_factor
     jump = _jump(curve)
     log.info("factor of safety %.4g (bracket %.4g, %d trials)", F, failed, len(trials))

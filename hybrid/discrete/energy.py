@@ -15,9 +15,10 @@ __all__ = ["mechanical_energy", "energy_excess", "energy_peak_ratio", "LABELS", 
 LABELS = {"kinetic": "kinetic", "strain": "strain", "contact_elastic": "contact (elastic)",
           "work_loads": "work of gravity and loads", "work_supports": "work of supports",
           "damping": "damping", "friction": "friction", "contact_damping": "contact damping",
-          "contact_normal_defect": "contact normal defect", "residual": "balance residual"}
-#: the dissipation terms
-DISSIPATION = ("damping", "friction", "contact_damping")
+          "contact_normal_defect": "contact normal defect",
+          "residual": "plastic dissipation (+ integration error)"}
+#: the dissipation terms (the ledger's residual is the plastic dissipation, see ledger.py)
+DISSIPATION = ("damping", "friction", "contact_damping", "residual")
 
 
 def mechanical_energy(h: dict) -> tuple[np.ndarray, np.ndarray]:

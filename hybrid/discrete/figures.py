@@ -12,9 +12,9 @@ from typing import Any
 import numpy as np
 
 from hybrid.discrete.state import DiscreteState
-from hybrid.io import save_figure
+from hybrid.io import Box, check_box, save_figure
 
-__all__ = ["plot_configuration", "failed_segments", "Snapshots"]
+__all__ = ["plot_configuration", "failed_segments", "outline_segments", "Snapshots"]
 
 
 def failed_segments(state: DiscreteState, *, reference: bool = False) -> np.ndarray:
@@ -27,16 +27,33 @@ def failed_segments(state: DiscreteState, *, reference: bool = False) -> np.ndar
     return xs[state.interface_nodes[failed][:, :2]]
 
 
+def outline_segments(state: DiscreteState) -> np.ndarray:
+    """The outline of the body at the start of the phase (reference geometry) (n, 2, 2) [m].
+
+    The element edges that were no interface at the start: the ground surface, the model's
+    boundaries (and the edges between elements that started apart).
+    """
+    nodes = state.element_nodes
+    edges = np.stack([nodes, np.roll(nodes, -1, axis=1)], axis=2).reshape(-1, 2)
+    inner = np.concatenate([state.interface_nodes[:, :2], state.interface_nodes[:, 2:]])
+    key = np.int64(state.x_ref.shape[0])
+    inner_keys = np.sort(inner, axis=1) @ np.array([key, 1])
+    edge_keys = np.sort(edges, axis=1) @ np.array([key, 1])
+    return state.x_ref[edges[~np.isin(edge_keys, inner_keys)]]
+
+
 def plot_configuration(path: str | Path, state: DiscreteState, *, title: str = "",
-                       field: str = "plastic_strain", window: tuple | None = None,
+                       field: str = "plastic_strain", window: Box | None = None,
                        reference: bool = False, dpi: int = 100,
-                       lines: dict[str, np.ndarray] | None = None) -> Path:
+                       lines: dict[str, np.ndarray] | None = None,
+                       outline: bool = False) -> Path:
     """PNG of the elements (deformed, or ``reference`` shape) coloured by ``field``.
 
     ``field``: "plastic_strain" (Gauss-point mean [-]) or "sigma_yy" (mean vertical stress
-    [kPa]); the failed interfaces are drawn in red. ``window`` = (xmin, xmax, ymin, ymax) [m]
+    [kPa]); the failed interfaces are drawn in red. ``window`` = (xmin, ymin, xmax, ymax) [m]
     crops the view; ``lines`` = {label: segments (n, 2, 2) [m]} are drawn on top (e.g. a
-    fitted slip line).
+    fitted slip line); ``outline``: the outline at the start of the phase (the original
+    surface) dashed (:func:`outline_segments`).
     """
     import matplotlib
 
@@ -58,6 +75,9 @@ def plot_configuration(path: str | Path, state: DiscreteState, *, title: str = "
                         linewidths=0.15)
     ax.add_collection(pc)
     fig.colorbar(pc, ax=ax, label=label, shrink=0.8)
+    if outline:
+        ax.add_collection(LineCollection(outline_segments(state), colors="k", linewidths=0.9,
+                                         linestyles="--", label="outline at the start"))
     seg = failed_segments(state, reference=reference)
     if len(seg):
         ax.add_collection(LineCollection(seg, colors="red", linewidths=1.0,
@@ -65,12 +85,13 @@ def plot_configuration(path: str | Path, state: DiscreteState, *, title: str = "
     for i, (name, segs) in enumerate((lines or {}).items()):
         ax.add_collection(LineCollection(np.asarray(segs, float), colors=f"C{i}", linewidths=2.0,
                                          label=name))
-    if len(seg) or lines:
+    if len(seg) or lines or outline:
         ax.legend(fontsize=8, loc="lower right")
     ax.autoscale()
     if window is not None:
-        ax.set_xlim(window[0], window[1])
-        ax.set_ylim(window[2], window[3])
+        xmin, ymin, xmax, ymax = check_box(window)
+        ax.set_xlim(xmin, xmax)
+        ax.set_ylim(ymin, ymax)
     ax.set_aspect("equal")
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")

@@ -3,7 +3,8 @@
 Units: m. An interface is the edge two elements shared at the start; its two node pairs
 coincided then, so their separation is the slip (sliding and opening together).
 :class:`SlipSurface` gathers the slip-surface measures of a run; :class:`SlopeMarks` picks a
-slope's crest and toe at the start of a run and measures how far they moved at its end.
+slope's crest and toe at the start of a run and measures how far they moved at its end;
+:class:`FootingMarks` does the same for a footing (settlement) and the ground beside it (heave).
 """
 
 from __future__ import annotations
@@ -17,7 +18,7 @@ import numpy as np
 from hybrid.discrete.state import DiscreteState
 
 __all__ = ["interface_slip", "slip_surface", "slip_trace", "slipped_interfaces", "SlipSurface",
-           "SlopeMarks", "SlopeMovement"]
+           "SlopeMarks", "SlopeMovement", "FootingMarks"]
 
 
 def interface_slip(state: DiscreteState) -> np.ndarray:
@@ -177,3 +178,48 @@ class SlopeMarks:
         return SlopeMovement(toe_dx=float(u[self.toe, 0]),
                              crest_drop=-float(np.mean(u[self.crest, 1])),
                              run_out=float(np.max(self.facing * u[self.nodes, 0])))
+
+
+@dataclass(frozen=True)
+class FootingMarks:
+    """A footing's nodes and the ground surface beside it, to measure settlement and heave.
+
+    Both count from the state's reference geometry (``x_ref``: the start of the discrete
+    phase); ``offset`` [m] is the settlement before it (the continuum's, at handover), so that
+    :meth:`total_settlement` counts from the start of the analysis.
+
+    Attributes:
+        footing: the footing's nodes (their mean vertical movement is the settlement).
+        surface: the ground-surface nodes beside the footing (their largest rise is the heave).
+        offset: settlement before the start of the discrete phase [m].
+    """
+
+    footing: np.ndarray
+    surface: np.ndarray
+    offset: float = 0.0
+
+    @classmethod
+    def pick(cls, state: DiscreteState, footing: np.ndarray, surface: np.ndarray, *,
+             beside: float, offset: float = 0.0) -> FootingMarks:
+        """The footing nodes and the ``surface`` nodes whose x lies beyond ``beside`` [m]."""
+        footing = np.asarray(footing, dtype=np.int64)
+        surface = np.asarray(surface, dtype=np.int64)
+        if footing.size == 0 or surface.size == 0:
+            raise ValueError("FootingMarks.pick: the footing and the surface need nodes "
+                             "(check the boundary names of the mesh)")
+        beyond = surface[state.x_ref[surface, 0] > beside]
+        if beyond.size == 0:
+            raise ValueError(f"FootingMarks.pick: no surface node beyond x = {beside} m")
+        return cls(footing, beyond, float(offset))
+
+    def settlement(self, state: DiscreteState) -> float:
+        """Mean downward movement of the footing nodes since the start of the phase [m]."""
+        return -float(np.mean(state.x[self.footing, 1] - state.x_ref[self.footing, 1]))
+
+    def total_settlement(self, state: DiscreteState) -> float:
+        """:meth:`settlement` plus the settlement before the phase (``offset``) [m]."""
+        return self.offset + self.settlement(state)
+
+    def heave(self, state: DiscreteState) -> float:
+        """Largest upward movement of the ground surface beside the footing [m]."""
+        return float(np.max(state.x[self.surface, 1] - state.x_ref[self.surface, 1]))

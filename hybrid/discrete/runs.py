@@ -60,7 +60,7 @@ def run_to_rest(state: DiscreteState, out: str | Path, options: RunOptions, *,
         rest_min_steps: steps before rest may stop the run.
         frames: about this many XDMF / PNG frames over ``until_time`` (0: none).
         snapshot_times: times [s] of the configuration snapshots.
-        window: (xmin, xmax, ymin, ymax) [m] of the figures (None: all elements).
+        window: (xmin, ymin, xmax, ymax) [m] of the figures (None: all elements).
         progress: a progress bar.
         prefix: start of the figures' file names.
         check_every: steps between the run's checks (rest, snapshots, energy history).

@@ -1,0 +1,256 @@
+"""Every figure the user docs quote matches the committed results file it comes from.
+
+The files: ``docs/verification/results.json`` (``make verify``: ``hybrid verify --full
+--update-docs``) and ``docs/summaries/{h2,h3,d10}.json`` (``make docs``: the cases'
+``summary.json``). Each quote below is a passage of a doc with ``{}`` where a number stands;
+the passage must occur in the doc (line breaks and runs of spaces count as one space) and
+each number must equal its value to the rounding it is quoted with (half a unit of its last
+digit). A figure the docs quote without a file behind it does not belong in them: rephrase.
+"""
+
+import json
+import math
+import re
+from collections.abc import Callable
+from functools import cache
+from typing import Any
+
+import pytest
+from conftest import ROOT
+
+NUMBER = r"([-+]?\d+(?: \d{3})*(?:\.\d+)?(?:e[-+]?\d+)?)"
+
+
+@cache
+def _json(name: str) -> dict[str, Any]:
+    return json.loads((ROOT / name).read_text())
+
+
+def h2() -> dict[str, Any]:
+    return _json("docs/summaries/h2.json")
+
+
+def h3() -> dict[str, Any]:
+    return _json("docs/summaries/h3.json")
+
+
+def d10() -> dict[str, Any]:
+    return _json("docs/summaries/d10.json")
+
+
+def verify(case: str) -> dict[str, Any]:
+    """The case's entry of the committed verification results, rows by name."""
+    (entry,) = [c for c in _json("docs/verification/results.json")["cases"] if c["id"] == case]
+    return {"rows": {r["name"]: r for r in entry["rows"]}, "stats": entry["stats"]}
+
+
+def row(case: str, name: str, key: str = "computed") -> float:
+    return verify(case)["rows"][name][key]
+
+
+def pct(computed: float, reference: float) -> float:
+    """Signed difference in % of the reference."""
+    return 100.0 * (computed - reference) / reference
+
+
+def _h2_check(name: str) -> float:
+    return h2()["checks"][name]["reference"]
+
+
+def _wedge(mark: str, key: str) -> float:
+    return h3()["discrete"]["failed_zone_back_by_face_movement_m"][mark][key]
+
+
+Quote = tuple[str, str, Callable[[], list[float]]]
+
+QUOTES: list[Quote] = [
+    # --- README: the demo -------------------------------------------------------------------
+    ("README.md", "a strip footing (B = {} m, c = {} kPa, phi = {} deg)",
+     lambda: [h2()["parameters"][k] for k in ("footing_width", "cohesion", "phi")]),
+    ("README.md", "the pressure is raised to {} kPa and held until the footing has settled {} m",
+     lambda: [h2()["parameters"]["pressure"], h2()["parameters"]["target_settlement"]]),
+    # --- docs/hybrid.md: options of the hybrid cases ----------------------------------------
+    ("docs/hybrid.md", "a limit (H2: {}, H3: {})",
+     lambda: [h2()["parameters"]["split_plastic_strain"],
+              h3()["parameters"]["split_plastic_strain"]]),
+    ("docs/hybrid.md", "`RunOptions(plastic_strain_cap=...)`, {} in H2 and H3",
+     lambda: [h2()["parameters"]["plastic_strain_cap"]] * (
+         h2()["parameters"]["plastic_strain_cap"] == h3()["parameters"]["plastic_strain_cap"])),
+    ("docs/hybrid.md", "ratio zeta; {} in H2 and H3",
+     lambda: [h2()["parameters"]["contact_damping"]] * (
+         h2()["parameters"]["contact_damping"] == h3()["parameters"]["contact_damping"])),
+    # --- docs/hybrid.md: H2 -----------------------------------------------------------------
+    ("docs/hybrid.md", "B = {} m strip (half model {} m x {} m, {} Q4 / Q2 cells, {} m at the "
+     "footing edge), c = {} kPa, phi = {} deg, psi = {}, gamma = {} kN/m3 (assumed), E = {} MPa, "
+     "nu = {}.",
+     lambda: [*(h2()["parameters"][k] for k in ("footing_width", "width", "depth")),
+              h2()["continuum"]["cells"],
+              *(h2()["parameters"][k] for k in ("fine", "cohesion", "phi", "psi",
+                                                "unit_weight")),
+              h2()["parameters"]["E"] / 1000.0, h2()["parameters"]["nu"]]),
+    ("docs/hybrid.md", "collapse at **{} kPa** (Vesic {} kPa: {} %; Meyerhof {}: {} %; Prandtl "
+     "weightless {}: {} %; Terzaghi {}: {} %), {} increments, {} Newton iterations, {} s;",
+     lambda: [h2()["continuum"]["collapse_pressure_kPa"],
+              *[v for k in ("Vesic", "Meyerhof", "Prandtl (weightless)", "Terzaghi")
+                for v in (_h2_check(f"collapse_vs_{k}"),
+                          pct(h2()["continuum"]["collapse_pressure_kPa"],
+                              _h2_check(f"collapse_vs_{k}")))],
+              h2()["continuum"]["steps"], h2()["continuum"]["newton_iterations"],
+              h2()["continuum"]["wall_time_s"]]),
+    ("docs/hybrid.md", "with the footing centre {} m down. Handover: {} elements in the "
+     "splittable region (the yielded cells grown by {} layers), {} of {} interfaces splittable.",
+     lambda: [h2()["continuum"]["curve"][-1][0], h2()["handover"]["splittable_elements"],
+              h2()["parameters"]["region_layers"], h2()["handover"]["splittable_interfaces"],
+              h2()["handover"]["interfaces"]]),
+    ("docs/hybrid.md", "pressure raised from the collapse load to {} kPa over {} s and held; the "
+     "footing reached **{} m** (counted from the handover) at t = {} s (it is a dynamic punch: "
+     "{} kPa is {} times the collapse load, alpha = {} 1/s), was unloaded over {} s and came to "
+     "rest at t = {} s with {} m of settlement since the handover, {} m in all; the ground "
+     "beside the footing rose by up to {} m (the largest rise of the surface); {} interfaces "
+     "failed. Energy never above its sources (excess {}, peak {} of the supply); elements ({}) "
+     "and mass ({} t/m) unchanged. {} steps in {} s.",
+     lambda: [h2()["parameters"]["pressure"], h2()["parameters"]["ramp_time"],
+              h2()["discrete"]["settlement_at_unloading_m"], h2()["discrete"]["unloaded_at_s"],
+              h2()["parameters"]["pressure"],
+              h2()["parameters"]["pressure"] / h2()["continuum"]["collapse_pressure_kPa"],
+              h2()["parameters"]["mass_damping"], h2()["parameters"]["ramp_time"],
+              h2()["discrete"]["time_to_rest_s"], h2()["discrete"]["final_settlement_m"],
+              h2()["discrete"]["final_total_settlement_m"],
+              h2()["discrete"]["max_heave_beside_footing_m"],
+              h2()["discrete"]["interfaces_failed"],
+              h2()["checks"]["energy_excess_over_sources"]["computed"],
+              h2()["discrete"]["energy_peak_over_supply"], h2()["discrete"]["elements"],
+              h2()["discrete"]["mass_t_per_m"], h2()["discrete"]["steps"],
+              h2()["discrete"]["wall_time_s"]]),
+    # --- docs/hybrid.md: H3 -----------------------------------------------------------------
+    ("docs/hybrid.md", "Thesis wall H = {} m, sand phi = {} deg, c = 0, gamma = {}, E = {} MPa, "
+     "nu = {}, psi = phi",
+     lambda: [h3()["parameters"]["height"], h3()["parameters"]["phi"],
+              h3()["parameters"]["unit_weight"], h3()["parameters"]["E"] / 1000.0,
+              h3()["parameters"]["nu"]]),
+    ("docs/hybrid.md", "backfill {} m on a 1 m ground layer that runs {} m in front of the wall "
+     "(`meshes/wall.py`, {} m structured Q4, {} cells).",
+     lambda: [h3()["parameters"]["length"], h3()["parameters"]["front"],
+              h3()["parameters"]["size"], h3()["continuum"]["cells"]]),
+    ("docs/hybrid.md", "at-rest thrust {} kN/m, active translation {} m: {} kN/m (Rankine {}: "
+     "{} %, rough base;",
+     lambda: [h3()["continuum"]["at_rest_thrust_kN_per_m"], h3()["parameters"]["translation"],
+              h3()["checks"]["active_thrust"]["computed"],
+              h3()["checks"]["active_thrust"]["reference"],
+              pct(h3()["checks"]["active_thrust"]["computed"],
+                  h3()["checks"]["active_thrust"]["reference"])]),
+    ("docs/hybrid.md", "{} m toward the backfill: {} kN/m (Rankine {}: {} %)",
+     lambda: [h3()["parameters"]["passive_translation"],
+              h3()["checks"]["passive_thrust"]["computed"],
+              h3()["checks"]["passive_thrust"]["reference"],
+              pct(h3()["checks"]["passive_thrust"]["computed"],
+                  h3()["checks"]["passive_thrust"]["reference"])]),
+    ("docs/hybrid.md", "run to rest: **t = {} s**, {} steps, {} s wall, {} interfaces failed. "
+     "The sand runs out {} m in front of the wall; the debris surface lies at {} deg.",
+     lambda: [h3()["discrete"]["time_s"], h3()["discrete"]["steps"],
+              h3()["discrete"]["wall_time_s"], h3()["discrete"]["interfaces_failed"],
+              h3()["discrete"]["runout_m"], h3()["discrete"]["final_slope_deg"]]),
+    ("docs/hybrid.md", "When the top of the face has moved 0.1 H = {} m (t = {} s): **{} deg** "
+     "against 45 + phi/2 = {} deg (bar {} deg: met).",
+     lambda: [h3()["parameters"]["wedge_at"], _wedge("1", "time_s"),
+              h3()["checks"]["wedge_angle"]["computed"],
+              h3()["checks"]["wedge_angle"]["reference"],
+              h3()["checks"]["wedge_angle"]["bar"] * h3()["checks"]["wedge_angle"]["reference"]]
+     if h3()["checks"]["wedge_angle"]["passed"] else [math.nan]),
+    ("docs/hybrid.md", "| inclination [deg] | {} | {} | {} | {} | {} | {} |",
+     lambda: [*(_wedge(m, "angle_deg") for m in ("0.1", "0.2", "0.5", "1", "2")),
+              h3()["discrete"]["failed_zone_back_at_rest"]["angle_deg"]]),
+    ("docs/hybrid.md", "| base intercept [m] | {} | {} | {} | {} | {} | {} |",
+     lambda: [*(_wedge(m, "intercept_m") for m in ("0.1", "0.2", "0.5", "1", "2")),
+              h3()["discrete"]["failed_zone_back_at_rest"]["intercept_m"]]),
+    # --- docs/hybrid.md: D10 ----------------------------------------------------------------
+    ("docs/hybrid.md", "the handover residual is {} % of the face weight",
+     lambda: [100.0 * d10()["handover_residual_over_face_weight"]]),
+    ("docs/hybrid.md", "({} of {} interfaces: {} tension, {} shear), topples and rests at t = {} s",
+     lambda: [d10()[k] for k in ("n_failed", "n_interfaces", "n_failed_tension",
+                                 "n_failed_shear", "time")]),
+    # --- docs/continuum.md ------------------------------------------------------------------
+    ("docs/continuum.md", "(C5 and C6: {} % and {} % above it",
+     lambda: [100 * row("C5", "limit_pressure", "error"),
+              100 * row("C6", "limit_pressure", "error")]),
+    ("docs/continuum.md", "The H2 footing's continuum phase (`make demo`, {} Q2 cells, psi = {}, "
+     "pressure raised in {} increments to {} kPa) takes {} converged increments, {} Newton "
+     "iterations and {} s of solver time to its collapse at {} kPa",
+     lambda: [h2()["continuum"]["cells"], h2()["parameters"]["psi"],
+              h2()["parameters"]["continuum_steps"], h2()["parameters"]["pressure"],
+              h2()["continuum"]["steps"], h2()["continuum"]["newton_iterations"],
+              h2()["continuum"]["wall_time_s"], h2()["continuum"]["collapse_pressure_kPa"]]),
+    ("docs/continuum.md", "Bishop & Morgenstern's charts give {}; this project's Bishop search "
+     "gives {} on the same section.",
+     lambda: [row("C9", "factor_of_safety_H/16", "reference"), row("C9", "bishop_search")]),
+    *[("docs/continuum.md", f"| {label} | {{}} ({{}} %) | {{}} ({{}} %) |",
+       lambda mesh=mesh: [v for case in ("C9-associated", "C9")
+                          for v in (row(case, f"factor_of_safety_{mesh}"),
+                                    pct(row(case, f"factor_of_safety_{mesh}"),
+                                        row(case, f"factor_of_safety_{mesh}", "reference")))])
+      for label, mesh in (("H/16", "H/16"), ("H/24", "H/24"))],
+    ("docs/continuum.md", "| H/32 ({} cells) | {} ({} %) | {} ({} %) |",
+     lambda: [verify("C9")["stats"]["cells"],
+              *[v for case in ("C9-associated", "C9")
+                for v in (row(case, "factor_of_safety_H/32"),
+                          pct(row(case, "factor_of_safety_H/32"),
+                              row(case, "factor_of_safety_H/32", "reference")))]]),
+    ("docs/continuum.md", "| spread | {} % | {} % |",
+     lambda: [100 * row("C9-associated", "mesh_spread"), 100 * row("C9", "mesh_spread")]),
+    ("docs/continuum.md", "The finest mesh runs to its F in {} s (psi = 0) and {} s (psi = phi) "
+     "of solver time",
+     lambda: [verify("C9")["stats"]["wall_time_s"],
+              verify("C9-associated")["stats"]["wall_time_s"]]),
+    ("docs/continuum.md", "F = {} / {} / {} on the three meshes against Bishop's {} (within {} %)",
+     lambda: [*(row("C9-weak", f"factor_of_safety_H/{n}") for n in (16, 24, 32)),
+              row("C9-weak", "bishop_search"),
+              100 * row("C9-weak", "factor_of_safety_within_5_percent_of_bishop", "error")]),
+    ("docs/continuum.md", "the limit pressure against Prandtl's {} kPa",
+     lambda: [row("C6", "limit_pressure", "reference")]),
+    ("docs/continuum.md", "C5 and C6 limit loads {} % and {} % above Prandtl (P2, {} cells); the "
+     "psi = 0 plateau (C6-psi0) {} % below Prandtl",
+     lambda: [100 * row("C5", "limit_pressure", "error"),
+              100 * row("C6", "limit_pressure", "error"),
+              *{verify(c)["stats"]["cells"] for c in ("C5", "C6", "C6-psi0")},
+              -pct(row("C6-psi0", "limit_pressure"),
+                   row("C6-psi0", "limit_pressure", "reference"))]),
+]
+
+
+def _flat(text: str) -> str:
+    return re.sub(r"\s+", " ", text)
+
+
+def _quoted(text: str) -> tuple[float, float]:
+    """A quoted number and half a unit of its last digit."""
+    mantissa = text.replace(" ", "").split("e")[0]
+    decimals = len(mantissa.split(".")[1]) if "." in mantissa else 0
+    exponent = int(text.split("e")[1]) if "e" in text else 0
+    return float(text.replace(" ", "")), 0.5 * 10.0 ** (exponent - decimals)
+
+
+@pytest.mark.parametrize("quote", QUOTES, ids=[f"{q[0]}:{q[1][:40]}" for q in QUOTES])
+def test_quoted_figure_matches_its_results_file(quote):
+    doc, passage, values = quote
+    text = _flat((ROOT / doc).read_text())
+    pattern = NUMBER.join(re.escape(_flat(part)) for part in passage.split("{}"))
+    found = re.findall(pattern, text)
+    assert len(found) == 1, f"{doc}: the passage {passage!r} occurs {len(found)} times"
+    quoted = found[0] if isinstance(found[0], tuple) else (found[0],)
+    expected = values()
+    assert len(quoted) == len(expected), (doc, passage, quoted, expected)
+    wrong = []
+    for text_number, value in zip(quoted, expected, strict=True):
+        number, half = _quoted(text_number)
+        if not abs(number - float(value)) <= half * (1 + 1e-9):
+            wrong.append(f"quoted {text_number}, file {value:.6g}")
+    assert not wrong, f"{doc}: {passage!r}: " + "; ".join(wrong)
+
+
+def test_docs_point_inside_the_repository():
+    """No path outside the repository (../, absolute) and no issue numbers in the user docs."""
+    for path in [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]:
+        text = path.read_text()
+        for bad in (r"\.\./", r"(?<![\w.])/(?:work|tmp|home|root)/", r"\bissues?\s*#?\d+",
+                    r"(?<![\w&])#\d+\b"):
+            assert not re.search(bad, text), f"{path.name}: {re.search(bad, text).group(0)!r}"
