@@ -47,29 +47,30 @@ from hybrid.handover import Region, residual_force, to_discrete
 from hybrid.io import CaseSummary, Check, save_figure
 from hybrid.materials import GRAVITY, Bond, Contact, Material
 from hybrid.model import Fixed, Model
+from hybrid.parameters import CaseParameters, param
 from hybrid.report import plot_energy
 
 MESHES = Path(__file__).resolve().parent.parent / "meshes"
 
 
 @dataclass
-class Parameters:
+class Parameters(CaseParameters):
     E: float = 1.0e5  # Young's modulus [kPa]
     nu: float = 0.25  # Poisson's ratio [-]
-    density: float = 2.0  # [t/m3]
-    width: float = 1.6  # face width at its base [m]
-    height: float = 10.0  # face height [m]
-    nx: int = 4  # elements across the face
-    ny: int = 25  # elements up the face
+    density: float = param(2.0, gt=0)  # [t/m3]
+    width: float = param(1.6, gt=0)  # face width at its base [m]
+    height: float = param(10.0, gt=0)  # face height [m]
+    nx: int = param(4, ge=1)  # elements across the face
+    ny: int = param(25, ge=1)  # elements up the face
     lean: float = 0.08  # overhang: x shifted by lean x y [-]
     interface_phi: float = 35.0  # interface friction angle (no tension, no cohesion) [deg]
     contact_phi: float = 35.0  # contact friction angle [deg]
-    contact_damping: float = 0.3  # contact normal damping ratio [-]
-    mass_damping: float = 0.5  # mass damping alpha [1/s]
-    split_every: int = 10  # steps between interface failure checks
-    rest: float = 1e-4  # stop when E_kin <= rest x max(peak E_kin, E_strain) [-]
-    t_end: float = 15.0  # time limit [s]
-    output_every: int = 1000  # steps between XDMF frames and PNG snapshots
+    contact_damping: float = param(0.3, ge=0, le=1)  # contact normal damping ratio [-]
+    mass_damping: float = param(0.5, ge=0)  # mass damping alpha [1/s]
+    split_every: int = param(10, ge=1)  # steps between interface failure checks
+    rest: float = param(1e-4, gt=0)  # stop when E_kin <= rest x max(peak E_kin, E_strain) [-]
+    t_end: float = param(15.0, gt=0)  # time limit [s]
+    output_every: int = param(1000, ge=0)  # steps between XDMF frames and PNG snapshots
     progress: bool = True  # show a progress bar
 
 

@@ -43,6 +43,7 @@ from hybrid.discrete.state import (
     LEDGER_FRICTION,
     DiscreteState,
 )
+from hybrid.errors import RunUnstable
 
 __all__ = ["RunOptions", "ExplicitSolver", "Observer", "RunResult", "run",
            "has_contact_module"]
@@ -562,7 +563,7 @@ def _cause(state: DiscreteState, dt: float, contact: bool | None) -> str:
 
 
 def _raise_non_finite(state: DiscreteState, dt: float, contact: bool | None = None) -> None:
-    raise RuntimeError(
+    raise RunUnstable(
         f"discrete run unstable at step {state.step} (t = {state.time:.6g} s): non-finite "
         f"coordinates/velocities/energy. {_cause(state, dt, contact)}")
 
@@ -603,7 +604,7 @@ class _Monitor:
         supply = (self.e_start + abs(led.work_loads - self.src0) + abs(led.work_supports)
                   + abs(self.src0))
         if e_now > RUNAWAY_MARGIN * supply + self.tol_e:
-            raise RuntimeError(
+            raise RunUnstable(
                 f"discrete run unstable at step {state.step} (t = {state.time:.6g} s): "
                 f"mechanical energy {e_now:.4g} kJ/m ({e_now / max(supply, 1e-300):.3g} x its "
                 f"sources {supply:.4g} kJ/m, above the margin of {RUNAWAY_MARGIN:g} x; "
@@ -618,7 +619,7 @@ def _check_distortion(state: DiscreteState, dt: float, contact: bool) -> None:
     """
     crit = integrate.stable_time_step(state, contact=contact)
     if dt > crit:
-        raise RuntimeError(
+        raise RunUnstable(
             f"discrete run stopped at step {state.step} (t = {state.time:.6g} s): the elements "
             f"have distorted so much that the stable time step fell to {crit:.4g} s, below the "
             f"run's dt = {dt:.4g} s (large plastic flow pancakes an element). Continue with a "
