@@ -33,6 +33,7 @@ import numpy as np
 from hybrid.discrete.builders import blocks
 from hybrid.discrete.energy import energy_excess, energy_peak_ratio
 from hybrid.discrete.outputs import standard_outputs
+from hybrid.discrete.runs import require_serial
 from hybrid.discrete.solver import ExplicitSolver, RunOptions
 from hybrid.io import CaseSummary, Check
 from hybrid.materials import GRAVITY, Contact, Material
@@ -65,6 +66,7 @@ class Parameters(CaseParameters):
 
 def main(out: str | Path = "results/block_drop", **overrides) -> CaseSummary:
     """A block dropped on two base blocks comes to rest with self-weight stresses (D5)."""
+    require_serial("block_drop")
     p = Parameters(**overrides)
     out = Path(out)
     b, hb, ht, s = p.base_width, p.base_height, p.top_height, p.element_size

@@ -32,6 +32,7 @@ import numpy as np
 from hybrid.discrete.builders import blocks
 from hybrid.discrete.energy import energy_excess, energy_peak_ratio
 from hybrid.discrete.outputs import standard_outputs
+from hybrid.discrete.runs import require_serial
 from hybrid.discrete.solver import ExplicitSolver, RunOptions
 from hybrid.io import CaseSummary, Check
 from hybrid.materials import Contact, Material
@@ -64,6 +65,7 @@ class Parameters(CaseParameters):
 
 def main(out: str | Path = "results/fe_de_interaction", **overrides) -> CaseSummary:
     """A loaded block on a tied assembly passes its load q B through the contact (D6)."""
+    require_serial("fe_de_interaction")
     p = Parameters(**overrides)
     out = Path(out)
     W, H, B, q = p.width, p.height, p.block_width, p.q

@@ -31,6 +31,7 @@ import numpy as np
 
 from hybrid.discrete import integrate, rectangle
 from hybrid.discrete.outputs import standard_outputs
+from hybrid.discrete.runs import require_serial
 from hybrid.discrete.solver import ExplicitSolver, RunOptions
 from hybrid.io import CaseSummary, Check, save_figure
 from hybrid.materials import GRAVITY, Material
@@ -76,6 +77,7 @@ def _plot_velocity(path: Path, t: np.ndarray, v: np.ndarray, v_exact: np.ndarray
 
 def main(out: str | Path = "results/free_fall", **overrides) -> CaseSummary:
     """Free fall of a tied Q4 group (D1) and its terminal velocity under mass damping (D2)."""
+    require_serial("free_fall")
     p = Parameters(**overrides)
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)

@@ -41,6 +41,7 @@ from hybrid.continuum import solve_elastic
 from hybrid.discrete import ties
 from hybrid.discrete.energy import energy_excess, energy_peak_ratio
 from hybrid.discrete.outputs import standard_outputs
+from hybrid.discrete.runs import require_serial
 from hybrid.discrete.solver import ExplicitSolver, RunOptions
 from hybrid.geometry import build_mesh, load_builder
 from hybrid.handover import Region, residual_force, to_discrete
@@ -130,6 +131,7 @@ def _plot_failures(path: Path, st, modes: np.ndarray, s1: np.ndarray, face: np.n
 
 def main(out: str | Path = "results/toppling", **overrides) -> CaseSummary:
     """A leaning face with no-tension interfaces splits, topples and settles (D10)."""
+    require_serial("toppling")
     p = Parameters(**overrides)
     out = Path(out)
     # 1. continuum: the elastic gravity state of the face bonded to the ground (dolfinx Q2)
