@@ -164,8 +164,10 @@ def free_rigid_motions(held: list[tuple[np.ndarray, int]], comm: Any) -> list[st
 
     pts = [p for p, _ in held if p.size]
     local = np.concatenate(pts) if pts else np.zeros((0, 2))
-    lo = comm.allreduce(local.min(axis=0) if local.size else np.full(2, np.inf), op=MPI.MIN)
-    hi = comm.allreduce(local.max(axis=0) if local.size else np.full(2, -np.inf), op=MPI.MAX)
+    lo = np.array([comm.allreduce(float(v), op=MPI.MIN)
+                   for v in (local.min(axis=0) if local.size else np.full(2, np.inf))])
+    hi = np.array([comm.allreduce(float(v), op=MPI.MAX)
+                   for v in (local.max(axis=0) if local.size else np.full(2, -np.inf))])
     centre = 0.5 * (lo + hi) if np.isfinite(lo).all() else np.zeros(2)
     scale = max(float(np.max(hi - lo)), 1e-300) if np.isfinite(lo).all() else 1.0
     gram = np.zeros((3, 3))
