@@ -33,30 +33,32 @@ from hybrid.geometry import build_mesh, load_builder
 from hybrid.io import CaseSummary, Check, plot_cell_field, write_continuum_xdmf
 from hybrid.materials import Material
 from hybrid.model import Displacement, Fixed, Model, Roller
+from hybrid.parameters import CELLS, CaseParameters, param
 from hybrid.report import plot_load_settlement
 
 MESHES = Path(__file__).resolve().parent.parent / "meshes"
 
 
 @dataclass
-class Parameters:
+class Parameters(CaseParameters):
     cohesion: float = 69.0  # c [kPa]
     phi: float = 20.0  # friction angle [deg]
     psi: float | None = None  # dilation angle [deg]; None = phi (associated)
-    unit_weight: float = 0.0  # gamma [kN/m3] (0: weightless, C5/C6)
+    unit_weight: float = param(0.0, ge=0)  # gamma [kN/m3] (0: weightless, C5/C6)
     E: float = 100_000.0  # Young's modulus [kPa]
     nu: float = 0.3  # Poisson's ratio [-]
-    footing_width: float = 1.2  # B [m]
-    width: float = 6.0  # modelled half-width of the domain [m]
-    depth: float = 4.0  # modelled depth [m]
-    fine: float = 0.04  # element size at the footing edge [m]
-    coarse: float = 0.6  # element size far away [m]
-    cells: str = "triangle"  # "triangle" or "quadrilateral"
-    degree: int = 2  # displacement order
-    settlement: float = 0.08  # final footing settlement [m]
-    steps: int = 40  # displacement increments
-    plateau: float = 0.001  # stop once the pressure rises less than this (relative) over the
-    #                         last 10 % of the push (after half of it); 0 = push to the end
+    footing_width: float = param(1.2, gt=0)  # B [m]
+    width: float = param(6.0, gt=0)  # modelled half-width of the domain [m]
+    depth: float = param(4.0, gt=0)  # modelled depth [m]
+    fine: float = param(0.04, gt=0)  # element size at the footing edge [m]
+    coarse: float = param(0.6, gt=0)  # element size far away [m]
+    cells: str = param("triangle", choices=CELLS)  # "triangle" or "quadrilateral"
+    degree: int = param(2, choices=(1, 2))  # displacement order
+    settlement: float = param(0.08, gt=0)  # final footing settlement [m]
+    steps: int = param(40, ge=1)  # displacement increments
+    plateau: float = param(0.001, ge=0, lt=1)  # stop once the pressure rises less than this
+    #                                            (relative) over the last 10 % of the push
+    #                                            (after half of it); 0 = push to the end
     case_id: str = "C6"  # label in the summary
 
 

@@ -33,36 +33,40 @@ import numpy as np
 from hybrid.discrete.builders import blocks
 from hybrid.discrete.energy import energy_excess, energy_peak_ratio
 from hybrid.discrete.outputs import standard_outputs
+from hybrid.discrete.runs import require_serial
 from hybrid.discrete.solver import ExplicitSolver, RunOptions
 from hybrid.io import CaseSummary, Check
 from hybrid.materials import GRAVITY, Contact, Material
+from hybrid.parameters import CaseParameters, param
 from hybrid.report import plot_energy
 
 
 @dataclass
-class Parameters:
+class Parameters(CaseParameters):
     E: float = 1.0e5  # Young's modulus [kPa]
     nu: float = 0.3  # Poisson's ratio [-]
-    density: float = 2.0  # [t/m3]
+    density: float = param(2.0, gt=0)  # [t/m3]
     g: float = GRAVITY  # gravity [m/s2]
-    base_width: float = 1.0  # width of each base block [m]
-    base_height: float = 1.0  # height of the base blocks [m]
-    gap: float = 0.2  # horizontal gap between the base blocks [m]
-    top_height: float = 0.5  # height of the dropped block (its width spans both bases) [m]
-    drop: float = 0.05  # initial clearance under the dropped block [m]
-    element_size: float = 0.25  # Q4 element size [m]
+    base_width: float = param(1.0, gt=0)  # width of each base block [m]
+    base_height: float = param(1.0, gt=0)  # height of the base blocks [m]
+    gap: float = param(0.2, ge=0)  # horizontal gap between the base blocks [m]
+    top_height: float = param(0.5, gt=0)  # height of the dropped block (its width spans both
+    #                                       bases) [m]
+    drop: float = param(0.05, ge=0)  # initial clearance under the dropped block [m]
+    element_size: float = param(0.25, gt=0)  # Q4 element size [m]
     contact_phi: float = 30.0  # contact friction angle [deg]
-    contact_damping: float = 0.2  # contact normal damping ratio [-]
-    mass_damping: float = 2.0  # mass damping alpha (dynamic relaxation) [1/s]
-    rest: float = 1e-6  # stop when E_kin <= rest x max(peak E_kin, E_strain) [-]
-    max_steps: int = 40_000  # step limit [-]
-    check_every: int = 200  # steps between energy records
-    output_every: int = 1000  # steps between XDMF frames and PNG snapshots
+    contact_damping: float = param(0.2, ge=0, le=1)  # contact normal damping ratio [-]
+    mass_damping: float = param(2.0, ge=0)  # mass damping alpha (dynamic relaxation) [1/s]
+    rest: float = param(1e-6, gt=0)  # stop when E_kin <= rest x max(peak E_kin, E_strain) [-]
+    max_steps: int = param(40_000, ge=1)  # step limit [-]
+    check_every: int = param(200, ge=1)  # steps between energy records
+    output_every: int = param(1000, ge=0)  # steps between XDMF frames and PNG snapshots
     progress: bool = True  # show a progress bar
 
 
 def main(out: str | Path = "results/block_drop", **overrides) -> CaseSummary:
     """A block dropped on two base blocks comes to rest with self-weight stresses (D5)."""
+    require_serial("block_drop")
     p = Parameters(**overrides)
     out = Path(out)
     b, hb, ht, s = p.base_width, p.base_height, p.top_height, p.element_size

@@ -76,6 +76,7 @@ from hybrid.handover import Region, element_groups, from_construction
 from hybrid.io import CaseSummary, Check, write_continuum_xdmf
 from hybrid.materials import Bond, Contact, Material
 from hybrid.model import Fixed, Model, Roller
+from hybrid.parameters import CELLS, CaseParameters, param
 from hybrid.references import SlipCircle
 
 MESHES = Path(__file__).resolve().parent.parent / "meshes"
@@ -102,14 +103,16 @@ PUBLISHED_PROBLEM = ("lifts", "yellow_clay_thickness", "boot_length", "foundatio
 
 
 @dataclass
-class Parameters:
-    size: float = 6.0  # element size in the embankment [m] (6: ~1 000 cells; 12: coarse)
-    layer_size: float | None = None  # element size in the yellow clay [m] (None: thickness)
-    cells: str = "quadrilateral"  # or "triangle"
-    degree: int = 2  # displacement order
-    lifts: int = 6  # construction stages (thesis: 6)
-    yellow_clay_thickness: float = 1.5  # [m] (published 1-2 m)
-    boot_length: float = 35.0  # upstream end of the boot from the axis [m] (assumed)
+class Parameters(CaseParameters):
+    size: float = param(6.0, gt=0)  # element size in the embankment [m] (6: ~1 000 cells; 12:
+    #                                 coarse)
+    layer_size: float | None = param(None, gt=0)  # element size in the yellow clay [m] (None:
+    #                                               thickness)
+    cells: str = param("quadrilateral", choices=CELLS)  # or "triangle"
+    degree: int = param(2, choices=(1, 2))  # displacement order
+    lifts: int = param(6, ge=1)  # construction stages (thesis: 6)
+    yellow_clay_thickness: float = param(1.5, gt=0)  # [m] (published 1-2 m)
+    boot_length: float = param(35.0, gt=0)  # upstream end of the boot from the axis [m] (assumed)
     foundation_E: float = 125_000.0  # mudstone, elastic [kPa] (Table 6.3)
     foundation_nu: float = 0.35  # [-]
     foundation_gamma: float = 20.0  # [kN/m3]
@@ -126,26 +129,30 @@ class Parameters:
     fill_E: float = 60_000.0  # [kPa]
     fill_nu: float = 0.38  # [-]
     fill_gamma: float = 21.0  # [kN/m3]
-    strength_factor: float = 1.0  # c, tan(phi) divided by this while building (< 1: stronger)
-    gravity_steps: int = 2  # increments of the foundation's weight
-    ramp_steps: int = 2  # increments of each lift's weight (halved on failure)
-    min_increment: float = 1e-3  # smallest increment, x the first, before collapse is declared
+    strength_factor: float = param(1.0, gt=0)  # c, tan(phi) divided by this while building (< 1:
+    #                                            stronger)
+    gravity_steps: int = param(2, ge=1)  # increments of the foundation's weight
+    ramp_steps: int = param(2, ge=1)  # increments of each lift's weight (halved on failure)
+    min_increment: float = param(1e-3, gt=0, le=1)  # smallest increment, x the first, before
+    #                                                 collapse is declared
     safety: bool = True  # strength-reduction factor of safety
     safety_every_lift: bool = True  # after every complete lift (False: only after the last)
-    fos_step: float = 0.1  # first relative increase of F [-]
-    fos_tolerance: float = 0.01  # F bracketed to this relative width [-]
+    fos_step: float = param(0.1, gt=0)  # first relative increase of F [-]
+    fos_tolerance: float = param(0.01, gt=0)  # F bracketed to this relative width [-]
     # discrete phase (post-failure)
-    discrete_time: float = 15.0  # [s] at most (0: continuum only); stops earlier at rest
-    region_layers: int = 2  # growth of the splittable region around the yielded cells
-    split_plastic_strain: float = 0.02  # bonds also fail beyond this plastic strain [-]
-    plastic_strain_cap: float | None = 2.0  # element flow limit [-] (None: none)
-    mass_damping: float = 0.5  # mass damping alpha [1/s]
-    contact_damping: float = 0.2  # normal contact damping ratio [-]
+    discrete_time: float = param(15.0, ge=0)  # [s] at most (0: continuum only); stops earlier at
+    #                                           rest
+    region_layers: int = param(2, ge=0)  # growth of the splittable region around the yielded cells
+    split_plastic_strain: float = param(0.02, gt=0)  # bonds also fail beyond this plastic strain
+    #                                                  [-]
+    plastic_strain_cap: float | None = param(2.0, gt=0)  # element flow limit [-] (None: none)
+    mass_damping: float = param(0.5, ge=0)  # mass damping alpha [1/s]
+    contact_damping: float = param(0.2, ge=0, le=1)  # normal contact damping ratio [-]
     clay_residual_phi: float = 12.0  # contact friction of yellow clay and core [deg]
     fill_residual_phi: float = 14.5  # contact friction of Zone I, Zone II, berm [deg]
-    slip_min: float = 0.1  # slip that puts a failed interface on the slip surface [m]
-    rest: float = 1e-4  # kinetic / strain energy ratio taken as rest
-    frames: int = 30  # animation frames of the discrete phase (0: none)
+    slip_min: float = param(0.1, gt=0)  # slip that puts a failed interface on the slip surface [m]
+    rest: float = param(1e-4, gt=0)  # kinetic / strain energy ratio taken as rest
+    frames: int = param(30, ge=0)  # animation frames of the discrete phase (0: none)
     progress: bool = True  # progress bar of the discrete run
 
 

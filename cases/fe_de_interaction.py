@@ -32,37 +32,40 @@ import numpy as np
 from hybrid.discrete.builders import blocks
 from hybrid.discrete.energy import energy_excess, energy_peak_ratio
 from hybrid.discrete.outputs import standard_outputs
+from hybrid.discrete.runs import require_serial
 from hybrid.discrete.solver import ExplicitSolver, RunOptions
 from hybrid.io import CaseSummary, Check
 from hybrid.materials import Contact, Material
+from hybrid.parameters import CaseParameters, param
 from hybrid.report import plot_energy
 
 
 @dataclass
-class Parameters:
+class Parameters(CaseParameters):
     q: float = 200.0  # pressure on the block's top edge [kPa]
     E: float = 1.0e5  # Young's modulus [kPa]
     nu: float = 0.3  # Poisson's ratio [-]
-    density: float = 2.0  # [t/m3]
-    width: float = 10.0  # assembly width W [m]
-    height: float = 10.0  # assembly height H [m]
-    n: int = 10  # elements per side of the assembly (n x n)
-    block_width: float = 2.0  # B [m]
-    block_height: float = 0.5  # [m]
-    block_nx: int = 4  # elements across the block (one row)
-    drop: float = 0.02  # initial clearance under the block [m]
+    density: float = param(2.0, gt=0)  # [t/m3]
+    width: float = param(10.0, gt=0)  # assembly width W [m]
+    height: float = param(10.0, gt=0)  # assembly height H [m]
+    n: int = param(10, ge=1)  # elements per side of the assembly (n x n)
+    block_width: float = param(2.0, gt=0)  # B [m]
+    block_height: float = param(0.5, gt=0)  # [m]
+    block_nx: int = param(4, ge=1)  # elements across the block (one row)
+    drop: float = param(0.02, ge=0)  # initial clearance under the block [m]
     contact_phi: float = 30.0  # contact friction angle [deg]
-    contact_damping: float = 0.3  # contact normal damping ratio [-]
-    mass_damping: float = 5.0  # mass damping alpha (dynamic relaxation) [1/s]
-    rest: float = 1e-7  # stop when E_kin <= rest x max(peak E_kin, E_strain) [-]
-    max_steps: int = 60_000  # step limit [-]
-    check_every: int = 200  # steps between energy records
-    output_every: int = 1000  # steps between XDMF frames and PNG snapshots
+    contact_damping: float = param(0.3, ge=0, le=1)  # contact normal damping ratio [-]
+    mass_damping: float = param(5.0, ge=0)  # mass damping alpha (dynamic relaxation) [1/s]
+    rest: float = param(1e-7, gt=0)  # stop when E_kin <= rest x max(peak E_kin, E_strain) [-]
+    max_steps: int = param(60_000, ge=1)  # step limit [-]
+    check_every: int = param(200, ge=1)  # steps between energy records
+    output_every: int = param(1000, ge=0)  # steps between XDMF frames and PNG snapshots
     progress: bool = True  # show a progress bar
 
 
 def main(out: str | Path = "results/fe_de_interaction", **overrides) -> CaseSummary:
     """A loaded block on a tied assembly passes its load q B through the contact (D6)."""
+    require_serial("fe_de_interaction")
     p = Parameters(**overrides)
     out = Path(out)
     W, H, B, q = p.width, p.height, p.block_width, p.q

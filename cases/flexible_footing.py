@@ -33,6 +33,7 @@ from hybrid.geometry import build_mesh, load_builder
 from hybrid.io import CaseSummary, Check, continuum_figures, plot_cell_field, write_continuum_xdmf
 from hybrid.materials import Material
 from hybrid.model import Fixed, Model, Pressure, Roller
+from hybrid.parameters import CELLS, CaseParameters, param
 from hybrid.references import flamant_centreline
 from hybrid.report import plot_profile
 
@@ -43,17 +44,17 @@ THESIS_PROBLEM = ("q", "E", "nu", "footing_width", "width", "depth")
 
 
 @dataclass
-class Parameters:
+class Parameters(CaseParameters):
     q: float = 100.0  # footing pressure [kPa]
     E: float = 10_000.0  # Young's modulus [kPa]
     nu: float = 0.4  # Poisson's ratio [-]
-    footing_width: float = 12.0  # B [m] (half modelled)
-    width: float = 20.0  # modelled width [m]
-    depth: float = 20.0  # layer depth to the rigid base [m]
-    fine: float = 0.25  # element size at the footing edge [m]
-    coarse: float = 2.0  # element size far away [m]
-    cells: str = "triangle"  # "triangle" or "quadrilateral"
-    degree: int = 2  # displacement order (1 or 2)
+    footing_width: float = param(12.0, gt=0)  # B [m] (half modelled)
+    width: float = param(20.0, gt=0)  # modelled width [m]
+    depth: float = param(20.0, gt=0)  # layer depth to the rigid base [m]
+    fine: float = param(0.25, gt=0)  # element size at the footing edge [m]
+    coarse: float = param(2.0, gt=0)  # element size far away [m]
+    cells: str = param("triangle", choices=CELLS)  # "triangle" or "quadrilateral"
+    degree: int = param(2, choices=(1, 2))  # displacement order (1 or 2)
     convergence: bool = True  # also solve on a mesh twice as fine for the settlement
 
 

@@ -47,6 +47,7 @@ from hybrid.handover import Region, to_discrete
 from hybrid.io import CaseSummary, Check, plot_cell_field, write_continuum_xdmf
 from hybrid.materials import Bond, Contact, Material
 from hybrid.model import Fixed, Model, Pressure, Roller
+from hybrid.parameters import CaseParameters, param
 from hybrid.references import strip_footing_estimates
 from hybrid.report import plot_energy, plot_load_settlement
 
@@ -54,33 +55,34 @@ MESHES = Path(__file__).resolve().parent.parent / "meshes"
 
 
 @dataclass
-class Parameters:
+class Parameters(CaseParameters):
     cohesion: float = 69.0  # c [kPa]
     phi: float = 20.0  # [deg]
     psi: float = 0.0  # [deg]
     unit_weight: float = 20.0  # gamma [kN/m3] (assumed)
     E: float = 100_000.0  # [kPa]
     nu: float = 0.3  # [-]
-    footing_width: float = 1.2  # B [m]
-    width: float = 4.8  # modelled half-width [m]
-    depth: float = 3.0  # modelled depth [m]
-    fine: float = 0.08  # element size at the footing edge [m]
-    coarse: float = 0.4  # element size far away [m]
-    continuum_steps: int = 24  # pressure increments up to ``pressure``
-    pressure: float = 1800.0  # footing pressure in the discrete phase [kPa]
-    target_settlement: float = 0.5  # settlement at which the footing is unloaded [m]
-    ramp_time: float = 0.05  # loading / unloading ramp [s]
-    max_time: float = 3.0  # give up the loaded phase after this time [s]
-    region_layers: int = 2  # growth of the splittable region around the yielded cells
-    freeze_layers: int = 6  # cells beyond this many layers of the region are held
-    mass_damping: float = 2.0  # mass damping alpha [1/s] in the discrete phase
-    rest: float = 1e-4  # kinetic / strain energy ratio taken as rest
-    output_every: int = 400  # discrete steps between outputs (0: none)
-    safety: float = 0.5  # time step as a fraction of the stable one
+    footing_width: float = param(1.2, gt=0)  # B [m]
+    width: float = param(4.8, gt=0)  # modelled half-width [m]
+    depth: float = param(3.0, gt=0)  # modelled depth [m]
+    fine: float = param(0.08, gt=0)  # element size at the footing edge [m]
+    coarse: float = param(0.4, gt=0)  # element size far away [m]
+    continuum_steps: int = param(24, ge=1)  # pressure increments up to ``pressure``
+    pressure: float = param(1800.0, gt=0)  # footing pressure in the discrete phase [kPa]
+    target_settlement: float = param(0.5, gt=0)  # settlement at which the footing is unloaded [m]
+    ramp_time: float = param(0.05, gt=0)  # loading / unloading ramp [s]
+    max_time: float = param(3.0, gt=0)  # give up the loaded phase after this time [s]
+    region_layers: int = param(2, ge=0)  # growth of the splittable region around the yielded cells
+    freeze_layers: int = param(6, ge=0)  # cells beyond this many layers of the region are held
+    mass_damping: float = param(2.0, ge=0)  # mass damping alpha [1/s] in the discrete phase
+    rest: float = param(1e-4, gt=0)  # kinetic / strain energy ratio taken as rest
+    output_every: int = param(400, ge=0)  # discrete steps between outputs (0: none)
+    safety: float = param(0.5, gt=0, le=1)  # time step as a fraction of the stable one
     progress: bool = True  # progress bar of the discrete runs
-    split_plastic_strain: float = 0.05  # bonds also fail beyond this plastic strain [-]
-    plastic_strain_cap: float = 0.3  # element flow stops here, sliding takes over [-]
-    contact_damping: float = 0.2  # normal contact damping ratio zeta [-]
+    split_plastic_strain: float = param(0.05, gt=0)  # bonds also fail beyond this plastic strain
+    #                                                  [-]
+    plastic_strain_cap: float = param(0.3, gt=0)  # element flow stops here, sliding takes over [-]
+    contact_damping: float = param(0.2, ge=0, le=1)  # normal contact damping ratio zeta [-]
     interface_cohesion: float | None = None  # bond cohesion [kPa] (None: c)
     interface_phi: float | None = None  # bond friction angle [deg] (None: phi)
     interface_tensile_strength: float | None = None  # bond tension [kPa] (None: c cot phi)

@@ -31,26 +31,29 @@ import numpy as np
 
 from hybrid.discrete import integrate, rectangle
 from hybrid.discrete.outputs import standard_outputs
+from hybrid.discrete.runs import require_serial
 from hybrid.discrete.solver import ExplicitSolver, RunOptions
 from hybrid.io import CaseSummary, Check, save_figure
 from hybrid.materials import GRAVITY, Material
+from hybrid.parameters import CaseParameters, param
 from hybrid.report import plot_energy
 
 
 @dataclass
-class Parameters:
+class Parameters(CaseParameters):
     E: float = 1.0e5  # Young's modulus [kPa]
     nu: float = 0.3  # Poisson's ratio [-]
-    density: float = 2.0  # [t/m3]
-    size: float = 4.0  # block width and height [m]
-    n: int = 4  # elements per side
+    density: float = param(2.0, gt=0)  # [t/m3]
+    size: float = param(4.0, gt=0)  # block width and height [m]
+    n: int = param(4, ge=1)  # elements per side
     g: float = GRAVITY  # gravity [m/s2]
-    mass_damping: float = 3.0  # mass damping alpha of the D2 run [1/s]
-    free_steps: int = 50  # undamped steps before the D1 acceleration is measured
-    t_end: float = 6.0  # end of the damped run [s] (1 - exp(-alpha t_end) of g / alpha)
-    safety: float = 0.5  # dt = safety x stable time step [-]
-    check_every: int = 50  # steps between energy / velocity records
-    output_every: int = 200  # steps between XDMF frames and PNG snapshots
+    mass_damping: float = param(3.0, ge=0)  # mass damping alpha of the D2 run [1/s]
+    free_steps: int = param(50, ge=1)  # undamped steps before the D1 acceleration is measured
+    t_end: float = param(6.0, gt=0)  # end of the damped run [s] (1 - exp(-alpha t_end) of g /
+    #                                  alpha)
+    safety: float = param(0.5, gt=0, le=1)  # dt = safety x stable time step [-]
+    check_every: int = param(50, ge=1)  # steps between energy / velocity records
+    output_every: int = param(200, ge=0)  # steps between XDMF frames and PNG snapshots
     progress: bool = True  # show a progress bar
 
 
@@ -74,6 +77,7 @@ def _plot_velocity(path: Path, t: np.ndarray, v: np.ndarray, v_exact: np.ndarray
 
 def main(out: str | Path = "results/free_fall", **overrides) -> CaseSummary:
     """Free fall of a tied Q4 group (D1) and its terminal velocity under mass damping (D2)."""
+    require_serial("free_fall")
     p = Parameters(**overrides)
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)

@@ -28,6 +28,7 @@ from hybrid.geometry import build_mesh, load_builder
 from hybrid.io import CaseSummary, Check, continuum_figures
 from hybrid.materials import Material
 from hybrid.model import Model, Roller
+from hybrid.parameters import CELLS, CaseParameters, param
 from hybrid.references import oedometer_settlement, oedometer_stress
 from hybrid.report import plot_profile
 
@@ -35,16 +36,16 @@ MESHES = Path(__file__).resolve().parent.parent / "meshes"
 
 
 @dataclass
-class Parameters:
-    height: float = 10.0  # column height H [m]
-    width: float = 2.0  # column width [m]
+class Parameters(CaseParameters):
+    height: float = param(10.0, gt=0)  # column height H [m]
+    width: float = param(2.0, gt=0)  # column width [m]
     E: float = 20_000.0  # Young's modulus [kPa]
     nu: float = 0.3  # Poisson's ratio [-]
     unit_weight: float = 19.0  # gamma [kN/m3]
-    nx: int = 2  # elements across
-    ny: int = 8  # elements up
-    cells: str = "quadrilateral"  # "quadrilateral" or "triangle"
-    degree: int = 2  # displacement order (1 or 2)
+    nx: int = param(2, ge=1)  # elements across
+    ny: int = param(8, ge=1)  # elements up
+    cells: str = param("quadrilateral", choices=CELLS)  # "quadrilateral" or "triangle"
+    degree: int = param(2, choices=(1, 2))  # displacement order (1 or 2)
 
 
 def main(out: str | Path = "results/oedometer", **overrides) -> CaseSummary:

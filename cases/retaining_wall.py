@@ -33,27 +33,30 @@ from hybrid.geometry import build_mesh, load_builder
 from hybrid.io import CaseSummary, Check, plot_cell_field, write_continuum_xdmf
 from hybrid.materials import Material
 from hybrid.model import Displacement, Fixed, Model, Roller
+from hybrid.parameters import CaseParameters, param
 from hybrid.report import plot_thrust_translation
 
 MESHES = Path(__file__).resolve().parent.parent / "meshes"
 
 
 @dataclass
-class Parameters:
-    mode: str = "active"  # "active" (wall moves away) or "passive" (toward the backfill)
-    height: float = 10.0  # wall height H [m]
-    length: float = 20.0  # backfill modelled behind the wall [m]
+class Parameters(CaseParameters):
+    mode: str = param("active", choices=("active", "passive"))  # "active" (wall moves away) or
+    #                                                             "passive" (toward the backfill)
+    height: float = param(10.0, gt=0)  # wall height H [m]
+    length: float = param(20.0, gt=0)  # backfill modelled behind the wall [m]
     unit_weight: float = 16.5  # gamma [kN/m3]
     phi: float = 30.0  # [deg]
     psi: float | None = None  # dilation [deg]; None = phi
     cohesion: float = 0.0  # [kPa]
     E: float = 70_000.0  # [kPa]
     nu: float = 0.35  # [-]
-    nx: int = 24  # cells along the backfill
-    ny: int = 12  # cells along the wall
-    degree: int = 2  # displacement order
-    translation: float | None = None  # wall movement [m]; None: 0.02 (active), 0.4 (passive)
-    steps: int = 20  # translation increments
+    nx: int = param(24, ge=1)  # cells along the backfill
+    ny: int = param(12, ge=1)  # cells along the wall
+    degree: int = param(2, choices=(1, 2))  # displacement order
+    translation: float | None = param(None, gt=0)  # wall movement [m]; None: 0.02 (active), 0.4
+    #                                                (passive)
+    steps: int = param(20, ge=1)  # translation increments
     rough_base: bool = False  # fix the base (rough) instead of a vertical roller (smooth)
 
 

@@ -54,33 +54,35 @@ from hybrid.handover import Region, to_discrete
 from hybrid.io import CaseSummary, Check, plot_cell_field, write_continuum_xdmf
 from hybrid.materials import Bond, Contact, Material
 from hybrid.model import Displacement, Fixed, Model, Roller
+from hybrid.parameters import CaseParameters, param
 from hybrid.report import plot_energy, plot_thrust_translation
 
 MESHES = Path(__file__).resolve().parent.parent / "meshes"
 
 
 @dataclass
-class Parameters:
-    height: float = 10.0  # wall height H [m]
-    length: float = 20.0  # backfill modelled behind the wall [m]
-    front: float = 20.0  # ground in front of the wall [m]
-    size: float = 0.5  # element size [m]
+class Parameters(CaseParameters):
+    height: float = param(10.0, gt=0)  # wall height H [m]
+    length: float = param(20.0, gt=0)  # backfill modelled behind the wall [m]
+    front: float = param(20.0, gt=0)  # ground in front of the wall [m]
+    size: float = param(0.5, gt=0)  # element size [m]
     unit_weight: float = 16.5  # gamma [kN/m3]
     phi: float = 30.0  # [deg]
     psi: float = 30.0  # dilation [deg] (associated, as Rankine's theory and C8)
     E: float = 70_000.0  # [kPa]
     nu: float = 0.35  # [-]
-    translation: float = 0.02  # active wall movement in the continuum [m]
-    passive_translation: float = 0.4  # passive stage (0: skipped) [m]
-    steps: int = 10  # continuum increments per stage
-    split_plastic_strain: float = 0.02  # bonds fail beyond this plastic strain [-]
-    plastic_strain_cap: float = 0.3  # element flow stops here, sliding takes over [-]
-    contact_damping: float = 0.2  # normal contact damping ratio zeta [-]
-    mass_damping: float = 1.0  # mass damping alpha [1/s]
-    wedge_at: float = 1.0  # face-top movement at which the wedge is measured (0.1 H) [m]
-    max_time: float = 30.0  # give up after this time [s]
-    rest: float = 1e-4  # kinetic / strain energy ratio taken as rest
-    output_every: int = 1000  # discrete steps between outputs (0: none)
+    translation: float = param(0.02, gt=0)  # active wall movement in the continuum [m]
+    passive_translation: float = param(0.4, ge=0)  # passive stage (0: skipped) [m]
+    steps: int = param(10, ge=1)  # continuum increments per stage
+    split_plastic_strain: float = param(0.02, gt=0)  # bonds fail beyond this plastic strain [-]
+    plastic_strain_cap: float = param(0.3, gt=0)  # element flow stops here, sliding takes over [-]
+    contact_damping: float = param(0.2, ge=0, le=1)  # normal contact damping ratio zeta [-]
+    mass_damping: float = param(1.0, ge=0)  # mass damping alpha [1/s]
+    wedge_at: float = param(1.0, gt=0)  # face-top movement at which the wedge is measured (0.1 H)
+    #                                     [m]
+    max_time: float = param(30.0, gt=0)  # give up after this time [s]
+    rest: float = param(1e-4, gt=0)  # kinetic / strain energy ratio taken as rest
+    output_every: int = param(1000, ge=0)  # discrete steps between outputs (0: none)
     progress: bool = True  # progress bar of the discrete runs
 
 

@@ -44,6 +44,7 @@ from hybrid.geometry import build_mesh, load_builder
 from hybrid.io import CaseSummary, Check, plot_cell_field, write_continuum_xdmf
 from hybrid.materials import Material
 from hybrid.model import Fixed, Model, Roller
+from hybrid.parameters import CaseParameters, param
 from hybrid.references import critical_circle, uniform_soil
 from hybrid.report import plot_curve
 
@@ -54,9 +55,9 @@ PUBLISHED_PROBLEM = ("height", "gradient", "cohesion", "phi", "unit_weight")
 
 
 @dataclass
-class Parameters:
-    height: float = 10.0  # slope height H [m]
-    gradient: float = 2.0  # horizontal : vertical (2 -> 26.57 deg)
+class Parameters(CaseParameters):
+    height: float = param(10.0, gt=0)  # slope height H [m]
+    gradient: float = param(2.0, gt=0)  # horizontal : vertical (2 -> 26.57 deg)
     crest_length: float = 12.0  # ground modelled behind the crest [m]
     cohesion: float = 10.0  # c' [kPa]
     phi: float = 20.0  # phi' [deg]
@@ -65,13 +66,13 @@ class Parameters:
     E: float = 100_000.0  # Young's modulus [kPa]
     nu: float = 0.3  # Poisson's ratio [-]
     meshes: str = "16"  # elements per slope height, one analysis each (e.g. "16,24,32") [-]
-    degree: int = 2  # displacement order (P2 triangles)
-    gravity_steps: int = 4  # increments of the self-weight switch-on [-]
-    fos_initial_increment: float = 0.05  # first relative increase of F [-]
-    fos_max_increment: float = 0.25  # largest relative increase of F [-]
-    fos_tolerance: float = 0.005  # F bracketed to this relative width [-]
-    newton_tolerance: float = 1e-8  # relative residual norm at convergence [-]
-    newton_max_iterations: int = 25  # Newton iterations per step [-]
+    degree: int = param(2, choices=(1, 2))  # displacement order (P2 triangles)
+    gravity_steps: int = param(4, ge=1)  # increments of the self-weight switch-on [-]
+    fos_initial_increment: float = param(0.05, gt=0)  # first relative increase of F [-]
+    fos_max_increment: float = param(0.25, gt=0)  # largest relative increase of F [-]
+    fos_tolerance: float = param(0.005, gt=0)  # F bracketed to this relative width [-]
+    newton_tolerance: float = param(1e-8, gt=0, lt=1)  # relative residual norm at convergence [-]
+    newton_max_iterations: int = param(25, ge=1)  # Newton iterations per step [-]
 
 
 def main(out: str | Path = "results/slope_fos", **overrides: Any) -> CaseSummary:

@@ -30,22 +30,24 @@ from hybrid.geometry import build_mesh, load_builder
 from hybrid.io import CaseSummary, Check, continuum_figures, write_continuum_xdmf
 from hybrid.materials import Material
 from hybrid.model import Fixed, Model, Roller
+from hybrid.parameters import CELLS, CaseParameters, param
 
 MESHES = Path(__file__).resolve().parent.parent / "meshes"
 
 
 @dataclass
-class Parameters:
-    height: float = 10.0  # slope height [m]
-    angle: float = 30.0  # slope angle [deg]
-    foundation_depth: float = 10.0  # layer below the toe [m]
-    flat: float = 100.0  # flat ground modelled beyond the toe and beyond the crest [m]
+class Parameters(CaseParameters):
+    height: float = param(10.0, gt=0)  # slope height [m]
+    angle: float = param(30.0, gt=0, lt=90)  # slope angle [deg]
+    foundation_depth: float = param(10.0, gt=0)  # layer below the toe [m]
+    flat: float = param(100.0, gt=0)  # flat ground modelled beyond the toe and beyond the crest
+    #                                   [m]
     E: float = 20_000.0  # Young's modulus [kPa]
     nu: float = 0.3  # Poisson's ratio [-]
     unit_weight: float = 20.0  # gamma [kN/m3]
-    size: float = 1.0  # element size [m]
-    cells: str = "triangle"  # "triangle" or "quadrilateral"
-    degree: int = 2  # displacement order
+    size: float = param(1.0, gt=0)  # element size [m]
+    cells: str = param("triangle", choices=CELLS)  # "triangle" or "quadrilateral"
+    degree: int = param(2, choices=(1, 2))  # displacement order
     convergence: bool = True  # also solve with elements half as large
 
 

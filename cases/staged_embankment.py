@@ -33,22 +33,23 @@ from hybrid.geometry import build_mesh, load_builder
 from hybrid.io import CaseSummary, Check, plot_cell_field, write_continuum_xdmf
 from hybrid.materials import Material
 from hybrid.model import Fixed, Model, Roller
+from hybrid.parameters import CaseParameters, param
 
 MESHES = Path(__file__).resolve().parent.parent / "meshes"
 
 
 @dataclass
-class Parameters:
-    lifts: int = 4  # number of lifts
-    lift_thickness: float = 2.0  # [m]
-    width: float = 2.0  # column width [m]
+class Parameters(CaseParameters):
+    lifts: int = param(4, ge=1)  # number of lifts
+    lift_thickness: float = param(2.0, gt=0)  # [m]
+    width: float = param(2.0, gt=0)  # column width [m]
     unit_weight: float = 20.0  # gamma [kN/m3]
     E: float = 20_000.0  # [kPa]
     nu: float = 0.3  # [-]
     cohesion: float = 0.0  # [kPa] (0 and phi = 0: elastic)
     phi: float = 0.0  # [deg]
-    degree: int = 2  # displacement order
-    ramp_steps: int = 2  # increments of each lift's weight
+    degree: int = param(2, choices=(1, 2))  # displacement order
+    ramp_steps: int = param(2, ge=1)  # increments of each lift's weight
 
 
 def staged_settlement(y_top: float, lifts: int, h: float, gamma: float, M: float) -> float:

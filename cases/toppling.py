@@ -41,35 +41,37 @@ from hybrid.continuum import solve_elastic
 from hybrid.discrete import ties
 from hybrid.discrete.energy import energy_excess, energy_peak_ratio
 from hybrid.discrete.outputs import standard_outputs
+from hybrid.discrete.runs import require_serial
 from hybrid.discrete.solver import ExplicitSolver, RunOptions
 from hybrid.geometry import build_mesh, load_builder
 from hybrid.handover import Region, residual_force, to_discrete
 from hybrid.io import CaseSummary, Check, save_figure
 from hybrid.materials import GRAVITY, Bond, Contact, Material
 from hybrid.model import Fixed, Model
+from hybrid.parameters import CaseParameters, param
 from hybrid.report import plot_energy
 
 MESHES = Path(__file__).resolve().parent.parent / "meshes"
 
 
 @dataclass
-class Parameters:
+class Parameters(CaseParameters):
     E: float = 1.0e5  # Young's modulus [kPa]
     nu: float = 0.25  # Poisson's ratio [-]
-    density: float = 2.0  # [t/m3]
-    width: float = 1.6  # face width at its base [m]
-    height: float = 10.0  # face height [m]
-    nx: int = 4  # elements across the face
-    ny: int = 25  # elements up the face
+    density: float = param(2.0, gt=0)  # [t/m3]
+    width: float = param(1.6, gt=0)  # face width at its base [m]
+    height: float = param(10.0, gt=0)  # face height [m]
+    nx: int = param(4, ge=1)  # elements across the face
+    ny: int = param(25, ge=1)  # elements up the face
     lean: float = 0.08  # overhang: x shifted by lean x y [-]
     interface_phi: float = 35.0  # interface friction angle (no tension, no cohesion) [deg]
     contact_phi: float = 35.0  # contact friction angle [deg]
-    contact_damping: float = 0.3  # contact normal damping ratio [-]
-    mass_damping: float = 0.5  # mass damping alpha [1/s]
-    split_every: int = 10  # steps between interface failure checks
-    rest: float = 1e-4  # stop when E_kin <= rest x max(peak E_kin, E_strain) [-]
-    t_end: float = 15.0  # time limit [s]
-    output_every: int = 1000  # steps between XDMF frames and PNG snapshots
+    contact_damping: float = param(0.3, ge=0, le=1)  # contact normal damping ratio [-]
+    mass_damping: float = param(0.5, ge=0)  # mass damping alpha [1/s]
+    split_every: int = param(10, ge=1)  # steps between interface failure checks
+    rest: float = param(1e-4, gt=0)  # stop when E_kin <= rest x max(peak E_kin, E_strain) [-]
+    t_end: float = param(15.0, gt=0)  # time limit [s]
+    output_every: int = param(1000, ge=0)  # steps between XDMF frames and PNG snapshots
     progress: bool = True  # show a progress bar
 
 
@@ -129,6 +131,7 @@ def _plot_failures(path: Path, st, modes: np.ndarray, s1: np.ndarray, face: np.n
 
 def main(out: str | Path = "results/toppling", **overrides) -> CaseSummary:
     """A leaning face with no-tension interfaces splits, topples and settles (D10)."""
+    require_serial("toppling")
     p = Parameters(**overrides)
     out = Path(out)
     # 1. continuum: the elastic gravity state of the face bonded to the ground (dolfinx Q2)

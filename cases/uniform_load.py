@@ -30,19 +30,20 @@ from hybrid.geometry import build_mesh, load_builder
 from hybrid.io import CaseSummary, Check, continuum_figures, write_continuum_xdmf
 from hybrid.materials import Material
 from hybrid.model import Model, Pressure, Roller
+from hybrid.parameters import CELLS, CaseParameters, param
 
 MESHES = Path(__file__).resolve().parent.parent / "meshes"
 
 
 @dataclass
-class Parameters:
+class Parameters(CaseParameters):
     q: float = 5.0  # pressure on top [kPa]
     E: float = 35_000.0  # Young's modulus [kPa]
     nu: float = 0.3  # Poisson's ratio [-]
-    size: float = 12.0  # block width and height [m]
-    n: int = 3  # elements per side
-    cells: str = "quadrilateral"  # "quadrilateral" or "triangle"
-    degree: int = 1  # displacement order (1 or 2)
+    size: float = param(12.0, gt=0)  # block width and height [m]
+    n: int = param(3, ge=1)  # elements per side
+    cells: str = param("quadrilateral", choices=CELLS)  # "quadrilateral" or "triangle"
+    degree: int = param(1, choices=(1, 2))  # displacement order (1 or 2)
 
 
 def main(out: str | Path = "results/uniform_load", **overrides) -> CaseSummary:

@@ -15,8 +15,9 @@ from pathlib import Path
 from types import ModuleType
 from typing import Any
 
-from hybrid.errors import StageIncomplete
+from hybrid.errors import StageIncomplete, run_command
 from hybrid.io import CaseSummary
+from hybrid.parameters import field_kind
 from hybrid.scripts import import_script
 
 __all__ = ["CaseError", "parse_overrides", "load_case", "run_case", "case_arguments",
@@ -29,11 +30,9 @@ class CaseError(ValueError):
 
 def _convert(field: dataclasses.Field, text: str) -> Any:
     """Convert ``text`` to the field's annotated type (bool, int, float, str, optional None)."""
-    kind = field.type if isinstance(field.type, str) else getattr(field.type, "__name__", "")
-    options = [k.strip() for k in str(kind).split("|")]
-    if "None" in options and text.lower() == "none":
+    kind_name, optional = field_kind(field)
+    if optional and text.lower() == "none":
         return None
-    kind_name = next((k for k in options if k != "None"), "str")
     try:
         if kind_name == "bool":
             if text.lower() in ("1", "true", "yes", "on"):
@@ -140,14 +139,35 @@ def run_case(main: Callable[..., CaseSummary], parameters: type, argv: Sequence[
     parser = argparse.ArgumentParser(description=(main.__doc__ or "").strip().split("\n")[0])
     case_arguments(parser)
     args = parser.parse_args(argv)
-    return execute(main, parameters, args, name)
+    return run_command(lambda: execute(main, parameters, args, name))
+
+
+def _make_out(out: Path, comm: Any) -> None:
+    """Create the output folder on rank 0 and check it is writable, before the ranks diverge.
+
+    A failure is raised on every rank (collective).
+    """
+    error = None
+    if comm.rank == 0:
+        try:
+            out.mkdir(parents=True, exist_ok=True)
+            probe = out / ".hybrid-write-test"
+            probe.write_bytes(b"")
+            probe.unlink()
+        except OSError as err:
+            error = (f"output folder '{out}' cannot be written ({err.strerror}): choose "
+                     "another --out")
+    error = comm.bcast(error, root=0)
+    if error is not None:
+        raise CaseError(error)
 
 
 def execute(main: Callable[..., CaseSummary], parameters: type, args: argparse.Namespace,
             name: str | None = None) -> int:
     """Run ``main`` with parsed options; print its checks and where the results are (rank 0).
 
-    Returns 0, or 3 when an analysis stage did not complete (its message on stderr).
+    Returns 0; 3 when an analysis stage did not complete (its message on stderr); 4 when a
+    check with a bar failed (reported checks, without a bar, do not count).
     """
     from mpi4py import MPI
 
@@ -162,6 +182,7 @@ def execute(main: Callable[..., CaseSummary], parameters: type, args: argparse.N
         enable()
     if args.out:
         kwargs["out"] = args.out
+        _make_out(Path(args.out), MPI.COMM_WORLD)
     try:
         summary = main(**kwargs)
     except StageIncomplete as err:
@@ -169,9 +190,10 @@ def execute(main: Callable[..., CaseSummary], parameters: type, args: argparse.N
         if MPI.COMM_WORLD.rank == 0:
             print(f"stage incomplete: {err}", file=sys.stderr)
         return 3
+    checks = summary.checks if isinstance(summary, CaseSummary) else {}
+    failed = [key for key, check in checks.items() if check.passed is False]
     if MPI.COMM_WORLD.rank == 0:
         out = summary.out if isinstance(summary, CaseSummary) else args.out
-        checks = summary.checks if isinstance(summary, CaseSummary) else {}
         for key, check in checks.items():
             line = f"{key}: {check.computed:.6g} {check.unit}".rstrip()
             error = check.error  # None without a reference
@@ -181,4 +203,6 @@ def execute(main: Callable[..., CaseSummary], parameters: type, args: argparse.N
                          f"{verdict})")
             print(line)
         print(f"results written to {out}")
-    return 0
+        if failed:
+            print(f"checks failed: {', '.join(failed)}", file=sys.stderr)
+    return 4 if failed else 0

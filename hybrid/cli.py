@@ -88,16 +88,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     verification.add_arguments(verify)
     verify.set_defaults(func=verification.command)
     args = parser.parse_args(argv)
-    try:
-        return int(args.func(args) or 0)
-    except ValueError as err:
-        # input errors (materials, geometry, case overrides) are reported, not traced back
-        print(f"hybrid: error: {err}", file=sys.stderr)
-        from mpi4py import MPI
+    from hybrid.errors import run_command
 
-        if MPI.COMM_WORLD.size > 1:  # the other ranks would wait for this one forever
-            MPI.COMM_WORLD.Abort(2)
-        return 2
+    return run_command(lambda: args.func(args))
 
 
 if __name__ == "__main__":  # pragma: no cover

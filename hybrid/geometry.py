@@ -184,7 +184,57 @@ def _check_gmsh_model(gmsh: Any) -> dict[str, Any]:
             f"{missing.size} of {all_cells_arr.size} cells have no material (their surface is in "
             "no 2-D physical group); add every surface to a named physical group"
         )
+    _check_cell_shapes(model)
     return {"cell_type": cell_type, "cell_groups": groups[2], "facet_groups": groups[1]}
+
+
+def _check_cell_shapes(model: Any) -> None:
+    """Refuse non-finite node coordinates and zero-area, inverted or tangled cells.
+
+    Within one gmsh surface every cell runs the same way round (gmsh meshes it so): a cell
+    running the other way is inverted (a node moved across the opposite edge). A
+    quadrilateral is tangled (a bow tie) when neither diagonal splits it into two triangles
+    running its surface's way round. A cell is of zero area below 1e-12 times the square of
+    the mesh's extent.
+    """
+    node_tags, coords, _ = model.mesh.getNodes()
+    node_tags = np.asarray(node_tags, dtype=np.int64)
+    xy = np.asarray(coords, dtype=float).reshape(-1, 3)[:, :2]
+    bad = ~np.isfinite(xy).all(axis=1)
+    if bad.any():
+        raise GeometryError(f"{int(bad.sum())} mesh node(s) have a non-finite coordinate (node "
+                            f"{int(node_tags[bad][0])}: {xy[bad][0].tolist()}): fix the mesh")
+    index = np.zeros(int(node_tags.max(initial=0)) + 1, dtype=np.int64)
+    index[node_tags] = np.arange(node_tags.size)
+    extent = np.ptp(xy, axis=0) if xy.size else np.zeros(2)
+    tiny = 1e-12 * float(extent @ extent)
+    for _, entity in model.getEntities(2):
+        types, tags, nodes = model.mesh.getElements(2, entity)
+        for kind, cells, cell_nodes in zip(types, tags, nodes, strict=True):
+            nen = 3 if kind == 2 else 4
+            p = xy[index[np.asarray(cell_nodes, dtype=np.int64).reshape(-1, nen)]]
+            edge_in = p - np.roll(p, 1, axis=1)  # edge arriving at each corner
+            edge_out = np.roll(p, -1, axis=1) - p  # edge leaving it
+            # twice the area of the triangle (previous, this, next corner), > 0 turning left
+            corner = edge_in[..., 0] * edge_out[..., 1] - edge_in[..., 1] * edge_out[..., 0]
+            area = 0.5 * np.sum(p[..., 0] * np.roll(p[..., 1], -1, axis=1)
+                                - np.roll(p[..., 0], -1, axis=1) * p[..., 1], axis=1)
+            way = 1.0 if np.sum(area) >= 0.0 else -1.0
+            faults = [("of zero area", np.abs(area) <= tiny),
+                      ("inverted (its nodes run the other way round from its neighbours')",
+                       area * way < 0.0)]
+            if nen == 4:
+                c = corner * way
+                split = ((c[:, 1] > 0) & (c[:, 3] > 0)) | ((c[:, 0] > 0) & (c[:, 2] > 0))
+                faults.append(("tangled (a self-intersecting quadrilateral)", ~split))
+            for what, hit in faults:
+                if hit.any():
+                    i = int(np.argmax(hit))
+                    centre = p[i].mean(axis=0)
+                    raise GeometryError(
+                        f"{int(hit.sum())} cell(s) of surface {entity} are {what}: cell "
+                        f"{int(cells[i])} at ({centre[0]:.6g}, {centre[1]:.6g}); fix the mesh "
+                        "(a misplaced node?)")
 
 
 def mesh_from_gmsh(comm: MPI.Comm = MPI.COMM_WORLD, rank: int = 0) -> MeshData:
@@ -198,6 +248,8 @@ def mesh_from_gmsh(comm: MPI.Comm = MPI.COMM_WORLD, rank: int = 0) -> MeshData:
             info = _check_gmsh_model(gmsh)
         except GeometryError as err:
             info = err
+        except Exception as err:  # gmsh's own errors: re-raised on every rank
+            info = GeometryError(f"the gmsh model cannot be read: {err}")
     info = comm.bcast(info, root=rank)
     if isinstance(info, GeometryError):
         raise info
@@ -228,8 +280,12 @@ def build_mesh(builder: Callable[..., None], comm: MPI.Comm = MPI.COMM_WORLD,
                **params: Any) -> MeshData:
     """Run a gmsh builder ``builder(gmsh, **params)`` on rank 0 and convert the model.
 
-    The builder creates the geometry, its named physical groups and the 2-D mesh.
+    The builder creates the geometry, its named physical groups and the 2-D mesh. A
+    ``cells`` parameter must be "triangle" or "quadrilateral".
     """
+    if "cells" in params and params["cells"] not in ("triangle", "quadrilateral"):
+        raise GeometryError(f"cells = {params['cells']!r}: must be 'triangle' or "
+                            "'quadrilateral'")
     with gmsh_session(comm) as gmsh:
         error: Exception | None = None
         if comm.rank == 0:
@@ -249,8 +305,16 @@ def read_msh(path: str | Path, comm: MPI.Comm = MPI.COMM_WORLD) -> MeshData:
     if not path.is_file():
         raise GeometryError(f"mesh file '{path}' does not exist")
     with gmsh_session(comm) as gmsh:
+        error = None
         if comm.rank == 0:
-            gmsh.merge(str(path))
+            try:
+                gmsh.merge(str(path))
+            except Exception as err:  # gmsh raises a bare Exception; re-raised on every rank
+                error = GeometryError(f"mesh file '{path}' cannot be read by gmsh ({err}): "
+                                      "check that it is a gmsh .msh file")
+        error = comm.bcast(error, root=0)
+        if error is not None:
+            raise error
         return mesh_from_gmsh(comm)
 
 

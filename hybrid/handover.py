@@ -57,7 +57,7 @@ class Region:
     everywhere: bool = False
 
     def __post_init__(self) -> None:
-        if self.plastic_strain < 0 or self.layers < 0:
+        if not self.plastic_strain >= 0 or self.layers < 0:
             raise ValueError("Region: plastic_strain and layers must be >= 0")
 
 
@@ -95,11 +95,19 @@ def start_from(snapshot: CellSnapshot, *, region: Region | None = None,
     """The discrete start of a snapshot, with its splittable region.
 
     ``region`` defaults to the yielded cells; with ``freeze_layers``, the cells beyond that
-    many layers of it are frozen.
+    many layers of it are frozen (refused when the region is empty: every cell would be).
     """
     splittable = region_cells(snapshot, region or Region())
     frozen = np.zeros(len(splittable), dtype=bool)
     if freeze_layers is not None:
+        if int(freeze_layers) != freeze_layers or freeze_layers < 0:
+            raise ValueError(f"freeze_layers = {freeze_layers!r}: must be a whole number >= 0 "
+                             "(None: nothing frozen)")
+        if not splittable.any():
+            raise ValueError(f"freeze_layers = {freeze_layers}: the splittable region is empty "
+                             f"({region or Region()} selects no cell), so every element would "
+                             "be held; choose a region that selects cells (a lower "
+                             "plastic_strain, a group) or freeze_layers=None")
         frozen = ~_grow(snapshot.cells, splittable, freeze_layers)
     return start_from_snapshot(snapshot, splittable=splittable, frozen=frozen)
 

@@ -6,6 +6,8 @@ No solver code lives here. Units: m, kN, kPa. Sign convention: tension positive;
 
 from __future__ import annotations
 
+import math
+import numbers
 from dataclasses import dataclass, field
 from typing import Literal
 
@@ -19,6 +21,15 @@ __all__ = ["Fixed", "Roller", "Displacement", "Pressure", "Traction", "Model", "
 
 class ModelError(ValueError):
     """The model is inconsistent (names, materials, boundary conditions)."""
+
+
+def _check_finite(item: object, **values: float | None) -> None:
+    """Refuse a load or prescribed value that is not a finite number (None passes)."""
+    for key, value in values.items():
+        if value is not None and (isinstance(value, bool) or not isinstance(value, numbers.Real)
+                                  or not math.isfinite(value)):
+            raise ModelError(f"{type(item).__name__} on '{getattr(item, 'boundary', '?')}': "
+                             f"{key} = {value!r} must be a finite number")
 
 
 @dataclass(frozen=True)
@@ -52,6 +63,7 @@ class Displacement:
     def __post_init__(self) -> None:
         if self.ux is None and self.uy is None:
             raise ModelError(f"Displacement on '{self.boundary}': give ux, uy or both")
+        _check_finite(self, ux=self.ux, uy=self.uy)
 
 
 @dataclass(frozen=True)
@@ -61,6 +73,9 @@ class Pressure:
     boundary: str
     value: float
 
+    def __post_init__(self) -> None:
+        _check_finite(self, value=self.value)
+
 
 @dataclass(frozen=True)
 class Traction:
@@ -69,6 +84,9 @@ class Traction:
     boundary: str
     tx: float = 0.0
     ty: float = 0.0
+
+    def __post_init__(self) -> None:
+        _check_finite(self, tx=self.tx, ty=self.ty)
 
 
 Support = Fixed | Roller | Displacement

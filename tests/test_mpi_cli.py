@@ -95,10 +95,11 @@ def test_mpi_limit_load_equals_serial(tmp_path):
     opts = ["--set", "fine=0.1", "--set", "coarse=0.8", "--set", "steps=12",
             "--set", "settlement=0.06"]
     script = str(CASES / "bearing_capacity.py")
+    # the coarse mesh misses the C6 bar (exit code 4: a check FAILed); the ranks must agree
     serial = _run([PYTHON, script, "--out", str(tmp_path / "serial"), *opts])
-    assert serial.returncode == 0, serial.stderr
+    assert serial.returncode == 4, serial.stderr
     parallel = _run(["mpirun", "-n", "2", PYTHON, script, "--out", str(tmp_path / "mpi"), *opts])
-    assert parallel.returncode == 0, parallel.stderr
+    assert parallel.returncode == 4, parallel.stderr
     a = json.loads((tmp_path / "serial" / "summary.json").read_text())
     b = json.loads((tmp_path / "mpi" / "summary.json").read_text())
     qa, qb = (s["checks"]["limit_pressure"]["computed"] for s in (a, b))

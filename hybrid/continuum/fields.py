@@ -16,10 +16,10 @@ import ufl
 from dolfinx import fem
 from petsc4py import PETSc
 
-from hybrid.model import Displacement, Fixed, Model, Pressure, Roller, Traction
+from hybrid.model import Displacement, Fixed, Model, ModelError, Pressure, Roller, Traction
 
 __all__ = ["Discretisation", "strain", "elastic_stress", "MaterialFields", "boundary_conditions",
-           "surface_load", "body_force"]
+           "free_rigid_motions", "surface_load", "body_force"]
 
 
 def quadrature_degree(cell_type: str, degree: int) -> int:
@@ -151,11 +151,58 @@ class BoundaryConditions:
             const.value = factor * value
 
 
+def free_rigid_motions(held: list[tuple[np.ndarray, int]], comm: Any) -> list[str]:
+    """The rigid-body motions that ``held`` displacement components leave free, in words.
+
+    ``held``: (points (n, 2) [m], component 0 or 1) per support component (collective: the
+    points of every rank count). A motion (ux, uy) = (a - c (y - y0), b + c (x - x0)) is free
+    when no held component sees it: the null space of the normal matrix of the constraints
+    (coordinates scaled by the supports' extent). Disconnected bodies are not seen here (the
+    solve then refuses the singular system).
+    """
+    from mpi4py import MPI
+
+    pts = [p for p, _ in held if p.size]
+    local = np.concatenate(pts) if pts else np.zeros((0, 2))
+    lo = np.array([comm.allreduce(float(v), op=MPI.MIN)
+                   for v in (local.min(axis=0) if local.size else np.full(2, np.inf))])
+    hi = np.array([comm.allreduce(float(v), op=MPI.MAX)
+                   for v in (local.max(axis=0) if local.size else np.full(2, -np.inf))])
+    centre = 0.5 * (lo + hi) if np.isfinite(lo).all() else np.zeros(2)
+    scale = max(float(np.max(hi - lo)), 1e-300) if np.isfinite(lo).all() else 1.0
+    gram = np.zeros((3, 3))
+    for points, comp in held:
+        p = (points - centre) / scale
+        rows = np.zeros((p.shape[0], 3))
+        rows[:, comp] = 1.0
+        rows[:, 2] = -p[:, 1] if comp == 0 else p[:, 0]
+        gram += rows.T @ rows
+    gram = comm.allreduce(gram, op=MPI.SUM)
+    values, vectors = np.linalg.eigh(gram)
+    free = vectors[:, values <= 1e-10 * max(float(values[-1]), 1.0)]
+    if free.shape[1] == 3:
+        return ["translation in x", "translation in y", "rotation"]
+    words = []
+    for a, b, c in free.T:
+        if abs(c) < 1e-6:
+            words.append("translation in x" if abs(b) < 1e-6 else "translation in y"
+                         if abs(a) < 1e-6 else f"translation along ({a:.3g}, {b:.3g})")
+        else:
+            x0, y0 = centre + scale * np.array([-b / c, a / c])
+            words.append(f"rotation about ({x0:.4g}, {y0:.4g})")
+    return words
+
+
 def boundary_conditions(model: Model, V: Any) -> BoundaryConditions:
-    """Dirichlet BCs of the model's supports on the displacement space ``V``."""
+    """Dirichlet BCs of the model's supports on the displacement space ``V``.
+
+    A model whose supports leave a rigid-body motion free is refused (:class:`ModelError`).
+    """
     mesh = model.mesh
     bcs: list[Any] = []
     prescribed: list[tuple[Any, float]] = []
+    held: list[tuple[np.ndarray, int]] = []
+    coordinates = V.tabulate_dof_coordinates()[:, :2]
     for support in model.supports:
         facets = mesh.facets(support.boundary)
         if isinstance(support, Fixed):
@@ -169,8 +216,14 @@ def boundary_conditions(model: Model, V: Any) -> BoundaryConditions:
             raise TypeError(f"unknown support {support!r}")
         for comp, value in components.items():
             dofs = fem.locate_dofs_topological(V.sub(comp), 1, facets)
+            held.append((coordinates[np.asarray(dofs) // 2], comp))
             const = fem.Constant(mesh.mesh, PETSc.ScalarType(value))
             bcs.append(fem.dirichletbc(const, dofs, V.sub(comp)))
             if value != 0.0:
                 prescribed.append((const, float(value)))
+    free = free_rigid_motions(held, mesh.comm)
+    if free:
+        raise ModelError(f"the supports leave the body free to move ({', '.join(free)}): the "
+                         "stiffness is singular; hold enough boundaries (Fixed, Roller, "
+                         "Displacement) to stop every rigid-body motion")
     return BoundaryConditions(bcs, prescribed)

@@ -19,7 +19,7 @@ from hybrid.discrete.outputs import frame_interval, standard_outputs
 from hybrid.discrete.solver import ExplicitSolver, RunOptions, RunResult
 from hybrid.discrete.state import DiscreteState
 
-__all__ = ["RestRun", "run_to_rest"]
+__all__ = ["RestRun", "require_serial", "run_to_rest"]
 
 
 @dataclass
@@ -81,3 +81,17 @@ def run_to_rest(state: DiscreteState, out: str | Path, options: RunOptions, *,
                             check_every=check_every)
     return RestRun(result, figures + snapshots.paths,
                    [f for f in solver.files if f.suffix != ".png"])
+
+
+def require_serial(case: str) -> None:
+    """Refuse to run a discrete-only case under MPI (the discrete engine runs on one process).
+
+    Called on every rank before anything is built or written, so all ranks stop together.
+    """
+    from mpi4py import MPI
+
+    size = MPI.COMM_WORLD.size
+    if size > 1:
+        raise ValueError(f"{case} is a discrete-only case: the discrete engine runs in one "
+                         f"process (threads: NUMBA_NUM_THREADS), not on {size} MPI ranks; "
+                         "run it without mpirun")

@@ -43,6 +43,7 @@ from hybrid.discrete.state import (
     LEDGER_FRICTION,
     DiscreteState,
 )
+from hybrid.errors import RunUnstable
 
 __all__ = ["RunOptions", "ExplicitSolver", "Observer", "RunResult", "run",
            "has_contact_module"]
@@ -288,7 +289,7 @@ class ExplicitSolver:
             if st.step % self._refresh == 0 or (self._split_every
                                                 and st.step % self._split_every == 0):
                 if not (np.isfinite(st.x).all() and np.isfinite(st.v).all()):
-                    _raise_non_finite(st, dt)
+                    _raise_non_finite(st, dt, self.contact)
                 vmax = float(np.max(np.abs(st.v))) if st.n_nodes else 0.0
                 margin = o.margin_factor * vmax * self._refresh * dt
                 margin = max(margin, self._margin_floor)
@@ -353,9 +354,11 @@ class ExplicitSolver:
             Why and where the run stopped, with the ledger history of its checks.
 
         Raises:
-            ValueError: no stopping criterion, or a bad one.
-            RuntimeError: the run turned unstable (non-finite numbers, energy growing
-                without a source, elements distorted below the stable step).
+            ValueError: no stopping criterion, or a bad one; non-finite gravity, loads,
+                prescribed velocities or masses; a tie group free to move without mass.
+            RuntimeError: the run turned unstable (non-finite numbers, mechanical energy
+                above ``RUNAWAY_MARGIN`` times its sources, elements distorted below the
+                stable step); the message names the likeliest cause.
         """
         if until_time is None and max_steps is None and until_rest is None:
             raise ValueError("give at least one of until_time, max_steps, until_rest")
@@ -363,6 +366,8 @@ class ExplicitSolver:
             raise ValueError(f"max_steps = {max_steps!r}: must be an integer >= 0")
         if until_rest is not None and not until_rest > 0.0:
             raise ValueError(f"until_rest = {until_rest!r}: must be a positive energy ratio")
+        if until_time is not None and not math.isfinite(until_time):
+            raise ValueError(f"until_time = {until_time!r}: must be a finite time [s]")
         for name, val in (("check_every", check_every), ("rest_min_steps", rest_min_steps)):
             if int(val) != val or val < 0:
                 raise ValueError(f"{name} = {val!r}: must be an integer >= 0")
@@ -370,6 +375,9 @@ class ExplicitSolver:
             raise RuntimeError("this solver is closed: make a new ExplicitSolver")
         check_every = max(int(check_every), 1)
         st, dt = self.state, self.dt
+        fault = _input_fault(st)
+        if fault is not None:
+            raise ValueError(f"discrete run refused: {fault}")
         integrate.check_dt(st, dt, contact=self.contact)
         if not st.primed:
             integrate.prime(st)
@@ -380,7 +388,7 @@ class ExplicitSolver:
             n_time = max(int(math.ceil((until_time - st.time) / dt - 1e-9)), 0)
             n_total = n_time if n_total is None else min(n_total, n_time)
         led0 = EnergyLedger.measure(st)
-        monitor = _Monitor(st, led0, dt)
+        monitor = _Monitor(st, led0, dt, self.contact)
         hist: dict[str, list[float]] = {k: [] for k in HISTORY_KEYS}
         peak_ke = led0.kinetic
         split0 = self.n_split
@@ -505,21 +513,76 @@ def _record(hist: dict[str, list[float]], state: DiscreteState, led: EnergyLedge
     hist["residual"].append(led.residual(led0))
 
 
-def _raise_non_finite(state: DiscreteState, dt: float) -> None:
-    raise RuntimeError(
+def _input_fault(state: DiscreteState) -> str | None:
+    """What in the state's inputs makes a run meaningless (None: nothing found).
+
+    Non-finite gravity, external forces, prescribed velocities or masses, a contact damping
+    ratio outside [0, 1], and tie groups with no mass that are free to move (their
+    acceleration would be a force over zero).
+    """
+    for name in ("gravity", "external_force", "prescribed_velocity", "mass"):
+        values = np.asarray(getattr(state, name))
+        bad = ~np.isfinite(values)
+        if bad.any():
+            where = "" if values.ndim == 1 and values.size == 2 else \
+                f" at node {int(np.argwhere(bad)[0][0])}"
+            return (f"{name} holds non-finite values{where} ({int(bad.sum())} entries): give "
+                    "finite numbers")
+    zeta = state.contact_table[:, 3]
+    bad_zeta = ~((zeta >= 0.0) & (zeta <= 1.0))
+    if bad_zeta.any():
+        m = int(np.argmax(bad_zeta))
+        return (f"contact damping ratio {zeta[m]!r} of material {m} is outside [0, 1] (above "
+                "1 the contact damping forces push the bodies apart and create energy)")
+    free = ~state.fixed.all(axis=1)
+    group_free = np.zeros(state.n_groups, dtype=bool)
+    np.logical_or.at(group_free, state.node_group, free)
+    massless = group_free & ~(state.group_mass > 0.0)
+    if massless.any():
+        g = int(np.argmax(massless))
+        return (f"{int(massless.sum())} tie group(s) free to move have no mass (group {g}, "
+                f"nodes {state.group_nodes[state.group_ptr[g]:state.group_ptr[g + 1]].tolist()[:6]}"
+                "): give their material a density > 0 or hold them")
+    return None
+
+
+def _cause(state: DiscreteState, dt: float, contact: bool | None) -> str:
+    """The likeliest cause of an unstable run, checked in order: inputs, distortion, dt."""
+    fault = _input_fault(state)
+    if fault is not None:
+        return f"Cause: {fault}."
+    if np.isfinite(state.x).all():
+        crit = integrate.stable_time_step(state, contact=contact)
+        if dt > crit:
+            return (f"Cause: the elements have distorted so much that the stable time step fell "
+                    f"to {crit:.4g} s, below dt = {dt:.4g} s (see plastic_strain_cap and "
+                    "split_plastic_strain, or reduce dt).")
+    return (f"Likely cause: dt = {dt:.4g} s too large for the current mesh or contact "
+            "stiffness (reduce dt or the safety factor), or an element inverted under a "
+            "too large deformation.")
+
+
+def _raise_non_finite(state: DiscreteState, dt: float, contact: bool | None = None) -> None:
+    raise RunUnstable(
         f"discrete run unstable at step {state.step} (t = {state.time:.6g} s): non-finite "
-        f"coordinates/velocities/energy. Likely cause: dt = {dt:.4g} s too large for the "
-        "current mesh or contact stiffness (reduce dt or the safety factor), or an element "
-        "inverted under a too large deformation.")
+        f"coordinates/velocities/energy. {_cause(state, dt, contact)}")
+
+
+#: a run stops when its mechanical energy exceeds this times its sources (energy at the
+#: start of the run and the work of loads and supports)
+RUNAWAY_MARGIN = 2.0
 
 
 class _Monitor:
-    """Stops an unstable run: non-finite numbers, or runaway mechanical energy.
+    """Stops an unstable run: non-finite numbers, or mechanical energy without a source.
 
-    Runaway: over 10x since the last check and above twice its sources.
+    Runaway: the mechanical energy (kinetic + strain + contact) above ``RUNAWAY_MARGIN``
+    times its sources, however fast it grew. A stable run never holds more than its sources
+    plus the small energy the contact forces create (a few % of the work of gravity).
     """
 
-    def __init__(self, state: DiscreteState, led0: EnergyLedger, dt: float) -> None:
+    def __init__(self, state: DiscreteState, led0: EnergyLedger, dt: float,
+                 contact: bool | None = None) -> None:
         """Sources and tolerance of the run starting with ``led0``."""
         self.e_start = led0.mechanical
         self.src0 = led0.work_loads + led0.work_supports
@@ -530,22 +593,23 @@ class _Monitor:
         self.tol_e = 1e-12 * mass_tot * cmax**2 + 1e-6 * abs(self.e_start)
         self.e_prev = self.e_start
         self.dt = dt
+        self.contact = contact
 
     def check(self, state: DiscreteState, led: EnergyLedger) -> None:
         """Raise RuntimeError if the state with ledger ``led`` is unstable."""
         e_now = led.mechanical
         if not (np.isfinite(e_now) and np.isfinite(state.x).all()
                 and np.isfinite(state.v).all()):
-            _raise_non_finite(state, self.dt)
+            _raise_non_finite(state, self.dt, self.contact)
         supply = (self.e_start + abs(led.work_loads - self.src0) + abs(led.work_supports)
                   + abs(self.src0))
-        if e_now > 2.0 * supply + self.tol_e and e_now > 10.0 * self.e_prev + self.tol_e:
-            raise RuntimeError(
+        if e_now > RUNAWAY_MARGIN * supply + self.tol_e:
+            raise RunUnstable(
                 f"discrete run unstable at step {state.step} (t = {state.time:.6g} s): "
-                f"mechanical energy {e_now:.4g} kJ/m grew over 10x since the last check and "
-                f"exceeds twice its sources ({supply:.4g} kJ/m). Likely cause: dt = "
-                f"{self.dt:.4g} s too large (reduce dt or the safety factor) or a too stiff "
-                "contact.")
+                f"mechanical energy {e_now:.4g} kJ/m ({e_now / max(supply, 1e-300):.3g} x its "
+                f"sources {supply:.4g} kJ/m, above the margin of {RUNAWAY_MARGIN:g} x; "
+                f"{self.e_prev:.4g} kJ/m at the last check). "
+                f"{_cause(state, self.dt, self.contact)}")
 
 
 def _check_distortion(state: DiscreteState, dt: float, contact: bool) -> None:
@@ -555,7 +619,7 @@ def _check_distortion(state: DiscreteState, dt: float, contact: bool) -> None:
     """
     crit = integrate.stable_time_step(state, contact=contact)
     if dt > crit:
-        raise RuntimeError(
+        raise RunUnstable(
             f"discrete run stopped at step {state.step} (t = {state.time:.6g} s): the elements "
             f"have distorted so much that the stable time step fell to {crit:.4g} s, below the "
             f"run's dt = {dt:.4g} s (large plastic flow pancakes an element). Continue with a "
