@@ -98,8 +98,9 @@ def case_arguments(parser: argparse.ArgumentParser) -> None:
 def parameter_notes(parameters: type) -> dict[str, str]:
     """The comment after each field of ``parameters`` in its source (unit and meaning).
 
-    A case documents a field on its line, ``cohesion: float = 69.0  # c [kPa]``; a field
-    without one (or a class whose source is not available) maps to "".
+    A case documents a field on its line, ``cohesion: float = 69.0  # c [kPa]``, continued on
+    comment-only lines indented past ``#`` (as a wrapped comment is); a field without one (or
+    a class whose source is not available) maps to "".
     """
     import inspect
     import io
@@ -112,12 +113,20 @@ def parameter_notes(parameters: type) -> dict[str, str]:
     except (OSError, TypeError):
         return notes
     first: dict[int, str] = {}  # line -> first name on it
+    last = ""  # the field whose note a comment-only line indented past "# " continues
     for tok in tokenize.generate_tokens(io.StringIO(source).readline):
         line = tok.start[0]
         if tok.type == tokenize.NAME and line not in first:
             first[line] = tok.string
+            last = ""
         elif tok.type == tokenize.COMMENT and first.get(line) in names:
-            notes[first[line]] = tok.string.lstrip("#").strip()
+            last = first[line]
+            notes[last] = tok.string.lstrip("#").strip()
+        elif tok.type == tokenize.COMMENT and line not in first:
+            if last and tok.string.startswith("#  "):
+                notes[last] += " " + tok.string.lstrip("#").strip()
+            else:
+                last = ""
     return notes
 
 

@@ -67,3 +67,17 @@ def test_progress_is_quiet_unless_enabled_and_falls_back_to_lines(capsys, monkey
         progress.enable(False)
     err = capsys.readouterr().err
     assert err.startswith("load: 900 / 1800 kPa factor 900") and err.count("\n") == 1
+
+
+def test_a_wrapped_parameter_comment_is_read_whole(tmp_path):
+    """A field's comment continued on a comment-only line indented past "# " (as a wrapped
+    comment is) belongs to that field; a section comment after it does not."""
+    script = tmp_path / "wrapped.py"
+    script.write_text(
+        "import dataclasses\n\n\n@dataclasses.dataclass\nclass Parameters:\n"
+        "    size: float = 6.0  # element size [m] (6: ~1 000 cells; 12:\n"
+        "    #                    coarse)\n"
+        "    # --- materials\n"
+        "    E: float = 1.0  # [kPa]\n")
+    notes = parameter_notes(load_case(script).Parameters)
+    assert notes == {"size": "element size [m] (6: ~1 000 cells; 12: coarse)", "E": "[kPa]"}
