@@ -78,6 +78,6 @@ def test_a_wrapped_parameter_comment_is_read_whole(tmp_path):
         "    size: float = 6.0  # element size [m] (6: ~1 000 cells; 12:\n"
         "    #                    coarse)\n"
         "    # --- materials\n"
-        "    E: float = 1.0  # [kPa]\n")
+        "    E: float = 1.0  # [kPa]\n\n\ndef main():\n    pass\n")
     notes = parameter_notes(load_case(script).Parameters)
     assert notes == {"size": "element size [m] (6: ~1 000 cells; 12: coarse)", "E": "[kPa]"}
