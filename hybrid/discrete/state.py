@@ -379,10 +379,10 @@ def read_checkpoint(path: str | Path) -> tuple[dict[str, Any], dict[str, np.ndar
     try:
         with np.load(path, allow_pickle=False) as data:
             arrays = {n: data[n] for n in heads}
-    arrays = {n: a if a.ndim == 0 else np.ascontiguousarray(a) for n, a in arrays.items()}
     except (OSError, EOFError, ValueError) as err:
         raise ValueError(f"checkpoint {path} cannot be read ({err}): restart from the "
                          "previous checkpoint (checkpoint.prev.npz) or from the start") from None
+    arrays = {n: a if a.ndim == 0 else np.ascontiguousarray(a) for n, a in arrays.items()}
     for name, size in _INDEX_RANGE.items():
         if name not in arrays:
             continue
