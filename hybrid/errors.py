@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-__all__ = ["StageIncomplete"]
+__all__ = ["StageIncomplete", "OutputError"]
 
 
 class StageIncomplete(RuntimeError):
@@ -10,4 +10,11 @@ class StageIncomplete(RuntimeError):
 
     No figure may be computed from the half-loaded state it leaves: the message says how far
     the stage went and what to do.
+    """
+
+
+class OutputError(RuntimeError):
+    """An output could not be written (a full disk, a read-only folder).
+
+    The message names the file, the last good frame and checkpoint, and how to continue.
     """

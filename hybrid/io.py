@@ -16,10 +16,10 @@ from typing import Any
 
 import numpy as np
 
+from hybrid.snapshot import STRESS_NAMES
+
 __all__ = ["Check", "CaseSummary", "write_summary", "write_continuum_xdmf", "plot_cell_field",
            "gather_cells", "continuum_figures"]
-
-STRESS_NAMES = ("sigma_xx", "sigma_yy", "sigma_zz", "sigma_xy")
 
 
 @dataclass

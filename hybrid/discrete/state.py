@@ -242,14 +242,14 @@ class DiscreteState:
         return DiscreteState(**kw)
 
     # -- checkpoints (npz, no pickle) -----------------------------------------------------------
+    def arrays(self) -> dict[str, np.ndarray]:
+        """Every field as an array, by name (what ``save`` writes)."""
+        return {f.name: np.asarray(getattr(self, f.name)) for f in fields(self)}
+
     def save(self, path: str | Path) -> Path:
         """Write every field to an ``.npz`` file (no pickle); ``load`` restarts bit for bit."""
         path = Path(path)
-        arrays: dict[str, np.ndarray] = {}
-        for f in fields(self):
-            v = getattr(self, f.name)
-            arrays[f.name] = np.asarray(v)
-        np.savez(path, **arrays)
+        np.savez(path, **self.arrays())
         return path if path.suffix == ".npz" else path.with_suffix(path.suffix + ".npz")
 
     @classmethod
@@ -345,7 +345,8 @@ def _sizes(path: Path, heads: dict[str, tuple[tuple[int, ...], np.dtype]]) -> di
             "M": dim("material_table", 0), "S": dim("group_ptr", 0) - 1,
             "I": dim("interface_elements", 0),
             "P": dim("contact_pairs", 0) if "contact_pairs" in heads else 0,
-            "L": dim("rigid_links", 0) if "rigid_links" in heads else 0, "W": TABLE_WIDTH, "S+1": dim("group_ptr", 0)}
+            "L": dim("rigid_links", 0) if "rigid_links" in heads else 0, "W": TABLE_WIDTH,
+            "S+1": dim("group_ptr", 0)}
 
 
 def read_checkpoint(path: str | Path) -> tuple[dict[str, Any], dict[str, np.ndarray]]:
