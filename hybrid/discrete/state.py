@@ -9,6 +9,7 @@ Sign convention: tension positive. Stress in Voigt order (xx, yy, zz, xy).
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Sequence
 from dataclasses import dataclass, field, fields
 from pathlib import Path
@@ -297,13 +298,13 @@ _INDEX_RANGE = {"element_nodes": "N", "element_material": "M", "node_group": "S"
                 "contact_pairs": "E", "rigid_links": "N"}
 
 
-def _headers(path: Path) -> dict[str, tuple[tuple[int, ...], np.dtype]]:
-    """Shape and dtype of every array of an npz file, read from the headers only."""
+def _headers(path: Path, fh: Any) -> dict[str, tuple[tuple[int, ...], np.dtype]]:
+    """Shape and dtype of every array of the npz file open as ``fh``, from the headers only."""
     import zipfile
 
     try:
-        size_on_disk = path.stat().st_size
-        with zipfile.ZipFile(path) as zf:
+        size_on_disk = os.fstat(fh.fileno()).st_size
+        with zipfile.ZipFile(fh) as zf:
             infos = [i for i in zf.infolist() if i.filename.endswith(".npy")]
             inflated = sum(i.file_size for i in infos)
             if inflated > max(_INFLATION * size_on_disk, _SMALL_CHECKPOINT):
@@ -356,7 +357,18 @@ def read_checkpoint(path: str | Path) -> tuple[dict[str, Any], dict[str, np.ndar
     fit the state the file describes; no array is read before its header is checked.
     """
     path = Path(path)
-    heads = _headers(path)
+    try:
+        fh = open(path, "rb")  # one open file: a checkpoint renamed meanwhile is not mixed in
+    except OSError as err:
+        raise ValueError(f"checkpoint {path} cannot be read ({err.strerror}): it is missing, "
+                         "truncated or not an npz file; restart from the previous checkpoint "
+                         "(checkpoint.prev.npz) or from the start") from None
+    with fh:
+        return _read_checkpoint(path, fh)
+
+
+def _read_checkpoint(path: Path, fh: Any) -> tuple[dict[str, Any], dict[str, np.ndarray]]:
+    heads = _headers(path, fh)
     # the engine's work arrays may be missing (a checkpoint of an older layout): made anew
     names = [f.name for f in fields(DiscreteState)
              if f.name in heads or f.default is not MADE_ON_CREATION]
@@ -378,9 +390,10 @@ def read_checkpoint(path: str | Path) -> tuple[dict[str, Any], dict[str, np.ndar
                              f"{expected} for {sizes['N']} nodes and {sizes['E']} elements; "
                              "the file is damaged or not written by DiscreteState.save")
     try:
-        with np.load(path, allow_pickle=False) as data:
+        fh.seek(0)
+        with np.load(fh, allow_pickle=False) as data:
             arrays = {n: data[n] for n in heads}
-    except (OSError, EOFError, ValueError) as err:
+    except (OSError, EOFError, ValueError, KeyError) as err:
         raise ValueError(f"checkpoint {path} cannot be read ({err}): restart from the "
                          "previous checkpoint (checkpoint.prev.npz) or from the start") from None
     arrays = {n: a if a.ndim == 0 else np.ascontiguousarray(a) for n, a in arrays.items()}
