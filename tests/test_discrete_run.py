@@ -29,6 +29,7 @@ def test_outputs_written(tmp_path):
     assert len(list((tmp_path / "frames").glob("*.png"))) == 3  # steps 0, 20, 40
     assert {f.name for f in solver.files} == {"discrete.xdmf", "discrete.h5", "discrete.gif",
                                              "discrete_series", "checkpoint.npz",
+                                             "animation.json",
                                              "frame_0000.png",
                                              "frame_0001.png", "frame_0002.png"}
     with meshio.xdmf.TimeSeriesReader(str(tmp_path / "discrete.xdmf")) as r:
@@ -120,7 +121,7 @@ def test_run_to_rest_writes_the_standard_outputs(tmp_path):
     assert [p.name for p in done.figures] == ["d_t0.png", f"d_t{0.2 * dt:g}.png"]
     assert all(p.is_file() for p in done.figures)
     assert {p.name for p in done.outputs} == {"discrete.xdmf", "discrete.h5", "discrete.gif",
-                                              "discrete_series"}
+                                              "discrete_series", "animation.json"}
     assert all(p.parent == tmp_path / "discrete" for p in done.outputs)
     assert (tmp_path / "discrete" / "frames" / "frame_0000.png").is_file()
     with pytest.raises(ValueError, match="options.dt"):

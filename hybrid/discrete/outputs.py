@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import abc
 import contextvars
+import json
 import os
 import shutil
 from collections.abc import Sequence
@@ -229,13 +230,10 @@ class XdmfSeries(_Periodic):
 
 def frame_fields(state: DiscreteState, contact_force: np.ndarray) -> dict[str, np.ndarray]:
     """The fields of one frame of the discrete series (see :class:`XdmfSeries`)."""
-    def vec3(a: np.ndarray) -> np.ndarray:
-        return np.column_stack([a, np.zeros(a.shape[0])])
-
     s = state.stress.mean(axis=1)
     failed = state.interface_elements[~state.interface_intact].ravel()
-    out = {"displacement": vec3(state.x - state.x_ref), "velocity": vec3(state.v),
-           "contact_force": vec3(contact_force)}
+    out = {"displacement": state.x - state.x_ref, "velocity": state.v.copy(),
+           "contact_force": contact_force.copy()}
     out.update({name: s[:, i] for i, name in enumerate(STRESS_NAMES)})
     out["plastic_strain"] = state.plastic_strain.mean(axis=1)
     out["yielded"] = state.yielded.mean(axis=1).astype(float)
@@ -270,7 +268,7 @@ def _xdmf_index(nen: int, ne: int, nn: int, material_names: Sequence[str],
     for time, _, _, name in frames:
         lines += ["<Grid>", include, f'<Time Value="{time!r}"/>']
         lines += [f'<Attribute Name="{f}" AttributeType="Vector" Center="Node">'
-                  f'{item(f"{name}:/{f}", f"{nn} 3")}</Attribute>' for f in _POINT_FIELDS]
+                  f'{item(f"{name}:/{f}", f"{nn} 2")}</Attribute>' for f in _POINT_FIELDS]
         lines += [f'<Attribute Name="{f}" AttributeType="Scalar" Center="Cell">'
                   f'{item(f"{name}:/{f}", str(ne))}</Attribute>' for f in _CELL_FIELDS]
         lines += ['<Attribute Name="material" AttributeType="Scalar" Center="Cell">'
@@ -293,7 +291,8 @@ class Animation(Observer):
     sigma_yy per element on the deformed elements; the axes span every frame and the colour
     range is the 1st to 99th percentile of all frames, both fixed for the whole animation;
     each frame is titled with its run phase and time. The PNG frames go to ``frames/``,
-    cleared when the series starts.
+    cleared when the series starts; ``animation.json`` lists each frame's time, phase, colour
+    range and axes.
     """
 
     def __init__(self, series: XdmfSeries) -> None:
@@ -330,7 +329,7 @@ class Animation(Observer):
         _clear_frames(frames_dir)
         data = [series.read_frame(i) for i in range(len(series.frames))]
         nodes = state.element_nodes
-        polys = [(state.x_ref + d["displacement"][:, :2])[nodes] for d in data]
+        polys = [(state.x_ref + d["displacement"])[nodes] for d in data]
         values = np.concatenate([d["sigma_yy"] for d in data])
         lo, hi = np.percentile(values, [1.0, 99.0])
         if hi <= lo:
@@ -372,7 +371,12 @@ class Animation(Observer):
                 written.append(png)
                 self.limits.append((pc.get_clim(), ax.get_xlim(), ax.get_ylim()))
         plt.close(fig)
-        return [*written, movie]
+        record = out / "animation.json"
+        record.write_text(json.dumps({"movie": movie.name, "field": "sigma_yy", "frames": [
+            {"time": f[0], "step": f[1], "phase": f[2], "colour_range": list(lim[0]),
+             "xlim": list(lim[1]), "ylim": list(lim[2])}
+            for f, lim in zip(series.frames, self.limits, strict=True)]}, indent=1))
+        return [*written, movie, record]
 
 
 def _clear_frames(folder: Path) -> None:
