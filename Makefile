@@ -40,7 +40,7 @@ setup: deps $(VENV)/.installed
 
 # --- user commands -------------------------------------------------------------
 demo: setup
-	$(PY) -m hybrid run cases/footing_failure.py --out results/footing_failure
+	$(PY) -m hybrid run cases/footing_failure.py --out results/footing_failure --overwrite
 
 lint: setup typecheck
 	$(PY) -m ruff check hybrid tests cases meshes

@@ -184,12 +184,12 @@ def main(out: str | Path = "results/footing_failure", **overrides) -> CaseSummar
                          split_plastic_strain=p.split_plastic_strain,
                          plastic_strain_cap=p.plastic_strain_cap, split_every=10)
     outputs = standard_outputs(out / "discrete", output_every=p.output_every,
-                               progress=p.progress)
+                               progress=p.progress, material_names=hand.material_names)
     # one solver: the loading run and the rest run make one time series
     with ExplicitSolver(disc, options, observers=outputs) as solver:
         loaded = solver.run(until_time=t_start + p.max_time + 2 * p.ramp_time,
-                            on_check=history, check_every=20)
-        settled = solver.run(until_rest=p.rest, max_steps=200_000)
+                            on_check=history, check_every=20, phase="loading")
+        settled = solver.run(until_rest=p.rest, max_steps=200_000, phase="rest")
     curve_discrete.append((settlement(), 0.0))  # at rest
     excess = max(energy_excess(loaded.history), energy_excess(settled.history))
     h = settled.history

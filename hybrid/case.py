@@ -9,13 +9,17 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import inspect
+import shutil
+import signal
 import sys
 from collections.abc import Callable, Sequence
 from pathlib import Path
 from types import ModuleType
 from typing import Any
 
-from hybrid.errors import StageIncomplete, run_command
+from hybrid.discrete.outputs import CHECKPOINT, RESUME
+from hybrid.errors import OutputError, StageIncomplete, run_command
 from hybrid.io import CaseSummary
 from hybrid.parameters import field_kind
 from hybrid.scripts import import_script
@@ -93,6 +97,11 @@ def case_arguments(parser: argparse.ArgumentParser) -> None:
                         metavar="NAME=VALUE", help="override a case parameter (repeatable)")
     parser.add_argument("--list", action="store_true",
                         help="list the case's parameters: default, unit, meaning")
+    folder = parser.add_mutually_exclusive_group()
+    folder.add_argument("--overwrite", action="store_true",
+                        help="clear a non-empty output folder first")
+    folder.add_argument("--resume", action="store_true",
+                        help="continue the discrete run from the checkpoint in the output folder")
 
 
 def parameter_notes(parameters: type) -> dict[str, str]:
@@ -142,6 +151,48 @@ def describe(parameters: type) -> str:
     return "\n".join(f"  {a:<{width}} = {b:<{value}}  {c}".rstrip() for a, b, c in rows)
 
 
+def _default_out(main: Callable[..., Any]) -> str:
+    """The ``out`` default of a case's ``main``."""
+    default = inspect.signature(main).parameters.get("out")
+    if default is None or default.default is inspect.Parameter.empty:
+        raise CaseError("the case's main has no default 'out': pass --out")
+    return str(default.default)
+
+
+def prepare_output_folder(out: Path, *, overwrite: bool = False, resume: bool = False) -> None:
+    """Refuse a non-empty output folder unless told to clear it or to resume from it."""
+    if not out.exists() or not any(out.iterdir()):
+        if resume:
+            raise CaseError(f"--resume: {out} holds no run to resume; drop --resume")
+        return
+    if overwrite:
+        for item in out.iterdir():
+            if item.is_dir() and not item.is_symlink():
+                shutil.rmtree(item)
+            else:
+                item.unlink()
+        return
+    if resume:
+        if not any(out.rglob(CHECKPOINT)):
+            raise CaseError(f"--resume: {out} holds no {CHECKPOINT} (the case writes "
+                            "checkpoints only with checkpoint_every > 0); start again with "
+                            "--overwrite")
+        return
+    raise CaseError(f"output folder {out} is not empty: pass --overwrite to clear it, "
+                    "--resume to continue its run, or another --out")
+
+
+def _terminate_as_interrupt() -> Any:
+    """Make SIGTERM (a batch time limit) stop the run as Ctrl-C does; the old handler."""
+    def handler(signum: int, frame: Any) -> None:
+        raise KeyboardInterrupt
+
+    try:
+        return signal.signal(signal.SIGTERM, handler)
+    except ValueError:  # not the main thread
+        return None
+
+
 def run_case(main: Callable[..., CaseSummary], parameters: type, argv: Sequence[str] | None = None,
              name: str | None = None) -> int:
     """Command-line entry of a case script."""
@@ -175,8 +226,13 @@ def execute(main: Callable[..., CaseSummary], parameters: type, args: argparse.N
             name: str | None = None) -> int:
     """Run ``main`` with parsed options; print its checks and where the results are (rank 0).
 
+    A non-empty output folder is refused unless ``--overwrite`` (clear it) or ``--resume``
+    (the discrete run continues from its checkpoint) is given. SIGTERM stops the run as
+    Ctrl-C does: the frames and checkpoints written so far stay readable.
+
     Returns 0; 3 when an analysis stage did not complete (its message on stderr); 4 when a
-    check with a bar failed (reported checks, without a bar, do not count).
+    check with a bar failed (reported checks, without a bar, do not count); 5 when an output
+    could not be written; 130 when interrupted.
     """
     from mpi4py import MPI
 
@@ -191,7 +247,20 @@ def execute(main: Callable[..., CaseSummary], parameters: type, args: argparse.N
         enable()
     if args.out:
         kwargs["out"] = args.out
-        _make_out(Path(args.out), MPI.COMM_WORLD)
+    out = Path(kwargs.get("out") or _default_out(main))
+    refused = None
+    if MPI.COMM_WORLD.rank == 0:  # one rank decides, every rank hears why
+        try:
+            prepare_output_folder(out, overwrite=getattr(args, "overwrite", False),
+                                  resume=getattr(args, "resume", False))
+        except CaseError as err:
+            refused = str(err)
+    refused = MPI.COMM_WORLD.bcast(refused, root=0)
+    if refused is not None:
+        raise CaseError(refused)
+    _make_out(out, MPI.COMM_WORLD)
+    token = RESUME.set(bool(getattr(args, "resume", False)))
+    previous = _terminate_as_interrupt()
     try:
         summary = main(**kwargs)
     except StageIncomplete as err:
@@ -199,6 +268,17 @@ def execute(main: Callable[..., CaseSummary], parameters: type, args: argparse.N
         if MPI.COMM_WORLD.rank == 0:
             print(f"stage incomplete: {err}", file=sys.stderr)
         return 3
+    except OutputError as err:
+        print(f"output error: {err}", file=sys.stderr)
+        return 5
+    except KeyboardInterrupt:
+        print(f"interrupted: {out} keeps the frames and the checkpoint written so far; "
+              "continue with --resume", file=sys.stderr)
+        return 130
+    finally:
+        RESUME.reset(token)
+        if previous is not None:
+            signal.signal(signal.SIGTERM, previous)
     checks = summary.checks if isinstance(summary, CaseSummary) else {}
     failed = [key for key, check in checks.items() if check.passed is False]
     if MPI.COMM_WORLD.rank == 0:

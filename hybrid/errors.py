@@ -6,7 +6,7 @@ import sys
 import traceback
 from collections.abc import Callable
 
-__all__ = ["RunUnstable", "StageIncomplete", "run_command"]
+__all__ = ["OutputError", "RunUnstable", "StageIncomplete", "run_command"]
 
 
 class StageIncomplete(RuntimeError):
@@ -22,6 +22,13 @@ class RunUnstable(RuntimeError):
 
     Like an incomplete stage, it leaves no figure to compute: ``hybrid run`` prints it and
     exits with code 3.
+    """
+
+
+class OutputError(RuntimeError):
+    """An output could not be written (a full disk, a read-only folder).
+
+    The message names the file, the last good frame and checkpoint, and how to continue.
     """
 
 

@@ -16,6 +16,8 @@ from typing import Any
 
 import numpy as np
 
+from hybrid.snapshot import STRESS_NAMES
+
 __all__ = ["Check", "CaseSummary", "write_summary", "write_continuum_xdmf", "plot_cell_field",
            "gather_cells", "continuum_figures", "Box", "check_box"]
 
@@ -41,8 +43,6 @@ def check_box(box: Any, name: str = "window") -> Box:
                          "xmin < xmax and ymin < ymax (not the axis-limits order xmin, xmax, "
                          "ymin, ymax)")
     return values
-
-STRESS_NAMES = ("sigma_xx", "sigma_yy", "sigma_zz", "sigma_xy")
 
 
 @dataclass

@@ -17,7 +17,10 @@ import numpy as np
 
 from hybrid.materials import Material
 
-__all__ = ["CellSnapshot"]
+__all__ = ["CellSnapshot", "STRESS_NAMES"]
+
+#: names of the stress components (Voigt order, kPa, tension +) in both phases' outputs
+STRESS_NAMES = ("sigma_xx", "sigma_yy", "sigma_zz", "sigma_xy")
 
 
 @dataclass(frozen=True)

@@ -27,7 +27,7 @@ def _assert_outputs(out, summary, min_frames=1):
     assert reader.num_steps >= min_frames
     t, point_data, cell_data = reader.read_data(reader.num_steps - 1)
     assert point_data["displacement"].shape == points.shape
-    assert cell_data["stress_yy"][0].shape == (cells[0].data.shape[0],)
+    assert cell_data["sigma_yy"][0].shape == (cells[0].data.shape[0],)
     assert len(list((out / "frames").glob("frame_*.png"))) == reader.num_steps
 
 

@@ -28,7 +28,9 @@ def test_outputs_written(tmp_path):
     assert (tmp_path / "discrete.gif").exists() and (tmp_path / "checkpoint.npz").exists()
     assert len(list((tmp_path / "frames").glob("*.png"))) == 3  # steps 0, 20, 40
     assert {f.name for f in solver.files} == {"discrete.xdmf", "discrete.h5", "discrete.gif",
-                                             "checkpoint.npz", "frame_0000.png",
+                                             "discrete_series", "checkpoint.npz",
+                                             "animation.json",
+                                             "frame_0000.png",
                                              "frame_0001.png", "frame_0002.png"}
     with meshio.xdmf.TimeSeriesReader(str(tmp_path / "discrete.xdmf")) as r:
         points, cells = r.read_points_cells()
@@ -37,7 +39,7 @@ def test_outputs_written(tmp_path):
         t, pd, cd = r.read_data(2)
     # the last frame holds the state's displacement and cell-mean stress exactly
     np.testing.assert_array_equal(pd["displacement"][:, :2], st.x - st.x_ref)
-    np.testing.assert_allclose(cd["stress_yy"][0], st.stress[:, :, 1].mean(axis=1), rtol=1e-14)
+    np.testing.assert_allclose(cd["sigma_yy"][0], st.stress[:, :, 1].mean(axis=1), rtol=1e-14)
     assert t == pytest.approx(st.time, rel=1e-12)
 
 
@@ -118,7 +120,8 @@ def test_run_to_rest_writes_the_standard_outputs(tmp_path):
     assert done.result.stop_reason == "rest" and st.time < 1.0
     assert [p.name for p in done.figures] == ["d_t0.png", f"d_t{0.2 * dt:g}.png"]
     assert all(p.is_file() for p in done.figures)
-    assert {p.name for p in done.outputs} == {"discrete.xdmf", "discrete.h5", "discrete.gif"}
+    assert {p.name for p in done.outputs} == {"discrete.xdmf", "discrete.h5", "discrete.gif",
+                                              "discrete_series", "animation.json"}
     assert all(p.parent == tmp_path / "discrete" for p in done.outputs)
     assert (tmp_path / "discrete" / "frames" / "frame_0000.png").is_file()
     with pytest.raises(ValueError, match="options.dt"):

@@ -24,9 +24,16 @@ def _assert_outputs(out, summary):
     points, cells = reader.read_points_cells()
     assert cells[0].data.shape[0] == summary["discrete"]["elements"]
     assert reader.num_steps >= 2
-    _, point_data, _ = reader.read_data(reader.num_steps - 1)
+    t_last, point_data, cell_data = reader.read_data(reader.num_steps - 1)
     assert point_data["displacement"].shape == points.shape
-    for name in ("discrete/discrete.gif", "final.png", "discrete_start.png",
+    assert {"sigma_yy", "failed_interfaces", "material"} <= set(cell_data)
+    # one colour range and one set of axes for the whole animation
+    frames = json.loads((out / "discrete" / "animation.json").read_text())["frames"]
+    assert len(frames) == reader.num_steps
+    assert all((f["colour_range"], f["xlim"], f["ylim"]) == (frames[0]["colour_range"],
+               frames[0]["xlim"], frames[0]["ylim"]) for f in frames)
+    movie = json.loads((out / "discrete" / "animation.json").read_text())["movie"]
+    for name in (f"discrete/{movie}", "final.png", "discrete_start.png",
                  "handover_plastic_strain.png"):
         assert (out / name).is_file(), name
 
@@ -56,6 +63,13 @@ def test_footing_failure_coarse(case, tmp_path):
     assert s["discrete"]["settlement_at_unloading_m"] > 0.05
     assert s["discrete"]["interfaces_failed"] > 0
     _assert_outputs(tmp_path, s)
+    # the series covers the loading and the rest runs, to the rest at the end
+    reader = meshio.xdmf.TimeSeriesReader(tmp_path / "discrete" / "discrete.xdmf")
+    reader.read_points_cells()
+    t_first, t_last = reader.read_data(0)[0], reader.read_data(reader.num_steps - 1)[0]
+    assert t_last - t_first == pytest.approx(s["discrete"]["time_to_rest_s"], rel=1e-12)
+    frames = json.loads((tmp_path / "discrete" / "animation.json").read_text())["frames"]
+    assert [f["phase"] for f in frames][::len(frames) - 1] == ["loading", "rest"]
 
 
 @pytest.mark.slow

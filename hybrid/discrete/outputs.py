@@ -1,39 +1,69 @@
 """Outputs of discrete runs: observers of an :class:`~hybrid.discrete.solver.ExplicitSolver`.
 
 An observer is attached to a solver for its lifetime, so one series covers all the solver's
-runs (a loading run and the rest run that follows it make one XDMF series and one set of
-frames). Its schedule counts the solver's steps (``ExplicitSolver.steps``). Closing the
-solver writes the final state where it was not written yet, and the GIF.
+runs (a loading run and the rest run that follows it make one XDMF series and one
+animation). Its schedule counts the solver's steps (``ExplicitSolver.steps``). Closing the
+solver writes the final state where it was not written yet, and the animation.
 
-- :class:`XdmfSeries`: meshio XDMF time series ``discrete.xdmf`` (+ ``discrete.h5``);
-- :class:`Frames`: PNG frames ``frames/frame_NNNN.png`` and ``discrete.gif`` at close;
-- :class:`Checkpoints`: ``state.save`` to ``checkpoint.npz`` every N steps and at the end of
-  each run (a restart is bit for bit);
+- :class:`XdmfSeries`: XDMF time series ``discrete.xdmf``, the mesh in ``discrete.h5`` and one
+  HDF5 file per frame in ``discrete_series/``; each frame file and the index are written to a
+  temporary file and renamed, so the series opens (ParaView, ``meshio.xdmf.TimeSeriesReader``)
+  after every frame, also after a kill;
+- :class:`Animation`: at close, ``discrete.mp4`` (ffmpeg) or ``discrete.gif`` and the PNG
+  frames ``frames/frame_NNNN.png`` from the series, with fixed axes and colour range;
+- :class:`Checkpoints`: ``checkpoint.npz`` (the state and the solver's progress,
+  ``ExplicitSolver.checkpoint_arrays``) every N steps and at the end of each run, written to
+  a temporary file and renamed, the previous one kept as ``checkpoint.prev.npz``; with
+  ``resume`` the solver continues from it (``ExplicitSolver.restore``) and the series
+  appends;
 - :class:`ProgressBar`: a tqdm bar per run.
 
 :func:`standard_outputs` builds the usual set from the cases' parameters; :func:`frame_interval`
-spaces a number of frames over a run.
+spaces a number of frames over a run. A write that fails (a full disk) raises
+:class:`~hybrid.errors.OutputError` naming the last good frame and checkpoint.
 """
 
 from __future__ import annotations
 
 import abc
+import contextvars
+import json
+import os
+import shutil
+from collections.abc import Sequence
 from pathlib import Path
+from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
 from hybrid.discrete.ledger import EnergyLedger
 from hybrid.discrete.solver import ExplicitSolver, Observer, RunResult
 from hybrid.discrete.state import DiscreteState
+from hybrid.errors import OutputError
+from hybrid.snapshot import STRESS_NAMES
 
-__all__ = ["XdmfSeries", "Frames", "Checkpoints", "ProgressBar", "standard_outputs",
-           "frame_interval"]
+__all__ = ["XdmfSeries", "Animation", "Checkpoints", "ProgressBar", "standard_outputs",
+           "frame_interval", "RESUME", "CHECKPOINT", "PREVIOUS_CHECKPOINT"]
+
+#: file names of the checkpoint and of the one before it
+CHECKPOINT = "checkpoint.npz"
+PREVIOUS_CHECKPOINT = "checkpoint.prev.npz"
+
+#: default of ``standard_outputs(resume=...)``: ``hybrid run --resume`` sets it for the case
+RESUME: contextvars.ContextVar[bool] = contextvars.ContextVar("RESUME", default=False)
 
 
 def _check_every(name: str, every: int) -> int:
     if int(every) != every or every < 1:
         raise ValueError(f"{name} = {every!r}: must be an integer >= 1 (steps between outputs)")
     return int(every)
+
+
+def _replace(tmp: Path, path: Path) -> None:
+    """Move a finished temporary file onto ``path`` (atomic on one file system)."""
+    with open(tmp, "rb+") as f:
+        os.fsync(f.fileno())
+    os.replace(tmp, path)
 
 
 class _Periodic(Observer, abc.ABC):
@@ -52,133 +82,365 @@ class _Periodic(Observer, abc.ABC):
         self._last: int | None = None  # state step last written
 
     @abc.abstractmethod
-    def _start(self, state: DiscreteState) -> None:
+    def _start(self, solver: ExplicitSolver) -> None:
         """Open the series (files, folders) for the first state."""
 
     @abc.abstractmethod
-    def _write(self, state: DiscreteState) -> None:
-        """Add ``state`` to the series."""
+    def _write(self, solver: ExplicitSolver) -> None:
+        """Add the solver's state to the series."""
 
     def _finish(self) -> None:
         """Close the series (after the final state)."""
 
-    def _emit(self, state: DiscreteState) -> None:
+    def _emit(self, solver: ExplicitSolver) -> None:
         if not self._started:
             self.out.mkdir(parents=True, exist_ok=True)
-            self._start(state)
+            self._start(solver)
             self._started = True
-        self._write(state)
-        self._last = state.step
+        self._write(solver)
+        self._last = solver.state.step
 
     def run_started(self, solver: ExplicitSolver, total_steps: int | None) -> None:
         """Start the series with the state at the solver's first run."""
         if not self._started:
-            self._emit(solver.state)
+            self._emit(solver)
 
     def stepped(self, solver: ExplicitSolver) -> None:
         """Write every ``every`` steps of the solver."""
         if solver.steps % self.every == 0:
-            self._emit(solver.state)
+            self._emit(solver)
 
     def close(self, solver: ExplicitSolver, final: bool) -> None:
         """Write the final state if it is not written yet, and close the series."""
         if final and self._last != solver.state.step:
-            self._emit(solver.state)
+            self._emit(solver)
         if self._started:
             self._finish()
 
 
 class XdmfSeries(_Periodic):
-    """meshio XDMF time series ``discrete.xdmf`` with its ``discrete.h5`` in ``out_dir``.
+    """XDMF time series ``discrete.xdmf`` in ``out_dir``, readable after every frame.
 
-    Every element with its own nodes (splits are visible), the reference coordinates plus a
-    displacement and a velocity field, stress, plastic strain and the yielded fraction
-    averaged per cell.
+    Every element with its own nodes (splits are visible) at its reference coordinates
+    (``discrete.h5``, with the material index per element and the material names). Per
+    frame (``discrete_series/frame_NNNNN.h5``, with its time, step and run phase as
+    attributes): point fields ``displacement`` (from the start of the discrete phase) [m],
+    ``velocity`` [m/s] and ``contact_force`` [kN/m]; cell fields ``sigma_xx``, ``sigma_yy``,
+    ``sigma_zz``, ``sigma_xy`` (element means) [kPa], ``plastic_strain`` [-], ``yielded``
+    (fraction of the Gauss points), ``failed_interfaces`` (the element's failed edges) and
+    ``material``. The names are those of the continuum's XDMF.
     """
 
-    def _start(self, state: DiscreteState) -> None:
-        import os
+    def __init__(self, out_dir: str | Path, every: int, *,
+                 material_names: Sequence[str] = ()) -> None:
+        """Files in ``out_dir``, every ``every`` steps; ``material_names`` by material index."""
+        super().__init__(out_dir, every)
+        self.material_names = tuple(str(n) for n in material_names)
+        self.path = self.out / "discrete.xdmf"
+        self.frames: list[tuple[float, int, str, str]] = []  # time, step, phase, file
 
-        import meshio
+    def _start(self, solver: ExplicitSolver) -> None:
+        import h5py
 
-        path = self.out / "discrete.xdmf"
-        # meshio 5.0 opens the .h5 file relative to the working directory: open it from the
-        # output folder so that discrete.h5 lands beside discrete.xdmf
-        self._w = meshio.xdmf.TimeSeriesWriter(path.name)
-        cwd = os.getcwd()
+        st = solver.state
+        series = self.out / "discrete_series"
+        if series.exists():
+            shutil.rmtree(series)
+        series.mkdir()
+        mesh = self.out / "discrete.h5"
+        tmp = mesh.with_name(mesh.name + ".tmp")
+        with h5py.File(tmp, "w") as f:
+            g = f.create_group("mesh")
+            g["geometry"] = st.x_ref
+            g["topology"] = st.element_nodes.astype(np.int64)
+            g["material"] = st.element_material.astype(np.int32)
+            g.attrs["material_names"] = ";".join(self.material_names)
+        _replace(tmp, mesh)
+        self._nen, self._ne, self._nn = st.nen, st.n_elements, st.n_nodes
+        self.files += [self.path, mesh, series]
+
+    def _write(self, solver: ExplicitSolver) -> None:
+        import h5py
+
+        st = solver.state
+        name = f"discrete_series/frame_{len(self.frames):05d}.h5"
+        path = self.out / name
+        tmp = path.with_name(path.name + ".tmp")
         try:
-            os.chdir(path.parent)
-            self._w.__enter__()
-        finally:
-            os.chdir(cwd)
-        self._w.filename = path.resolve()
-        ctype = "quad" if state.nen == 4 else "triangle"
-        self._w.write_points_cells(state.x_ref, [(ctype, state.element_nodes)])
-        self.files += [path, self.out / "discrete.h5"]
+            with h5py.File(tmp, "w") as f:
+                for key, value in frame_fields(st, solver.contact_force).items():
+                    f[key] = value
+                f.attrs["time"] = st.time
+                f.attrs["step"] = st.step
+                f.attrs["phase"] = solver.phase
+            _replace(tmp, path)
+            self.frames.append((st.time, st.step, solver.phase, name))
+            self._write_index()
+        except OSError as err:
+            tmp.unlink(missing_ok=True)
+            raise OutputError(_lost(path, err, self.frames)) from None
 
-    def _write(self, state: DiscreteState) -> None:
-        s = state.stress.mean(axis=1)
-        self._w.write_data(
-            state.time,
-            point_data={"displacement": state.x - state.x_ref, "velocity": state.v},
-            cell_data={"stress_xx": [s[:, 0]], "stress_yy": [s[:, 1]], "stress_zz": [s[:, 2]],
-                       "stress_xy": [s[:, 3]],
-                       "plastic_strain": [state.plastic_strain.mean(axis=1)],
-                       "yielded": [state.yielded.mean(axis=1).astype(float)]})
+    def _write_index(self) -> None:
+        tmp = self.path.with_name(self.path.name + ".tmp")
+        tmp.write_text(_xdmf_index(self._nen, self._ne, self._nn, self.material_names,
+                                   self.frames))
+        _replace(tmp, self.path)
 
-    def _finish(self) -> None:
-        self._w.__exit__(None, None, None)
+    def state(self) -> dict[str, np.ndarray]:
+        """The number of frames written."""
+        return {"frames": np.array(len(self.frames))}
+
+    def restore(self, saved: dict[str, np.ndarray]) -> None:
+        """Keep the frames the checkpoint had seen, drop the later ones, append from there."""
+        import h5py
+
+        n = int(saved.get("frames", 0))
+        if n == 0:
+            return
+        series = self.out / "discrete_series"
+        self.frames = []
+        for i in range(n):
+            name = f"discrete_series/frame_{i:05d}.h5"
+            try:
+                with h5py.File(self.out / name, "r") as f:
+                    self.frames.append((float(f.attrs["time"]), int(f.attrs["step"]),
+                                        str(f.attrs["phase"]), name))
+            except OSError as err:
+                raise ValueError(f"cannot resume the series in {self.out}: frame {i} of the "
+                                 f"checkpoint's {n} is unreadable ({err}); start again with "
+                                 "--overwrite") from None
+        for old in series.glob("frame_*.h5*"):
+            if old.name.endswith(".tmp") or int(old.stem.split("_")[1]) >= n:
+                old.unlink()
+        with h5py.File(self.out / "discrete.h5", "r") as f:
+            self._ne, self._nen = f["mesh/topology"].shape
+            self._nn = f["mesh/geometry"].shape[0]
+        self._write_index()
+        self._started = True
+        self._last = self.frames[-1][1]
+        self.files += [self.path, self.out / "discrete.h5", series]
+
+    def read_frame(self, i: int) -> dict[str, np.ndarray]:
+        """The fields of frame ``i``."""
+        import h5py
+
+        with h5py.File(self.out / self.frames[i][3], "r") as f:
+            return {k: f[k][()] for k in f}
 
 
-class Frames(_Periodic):
-    """PNG frames ``frames/frame_NNNN.png`` (sigma_yy per element) and ``discrete.gif``.
+def frame_fields(state: DiscreteState, contact_force: np.ndarray) -> dict[str, np.ndarray]:
+    """The fields of one frame of the discrete series (see :class:`XdmfSeries`)."""
+    s = state.stress.mean(axis=1)
+    failed = state.interface_elements[~state.interface_intact].ravel()
+    out = {"displacement": state.x - state.x_ref, "velocity": state.v.copy(),
+           "contact_force": contact_force.copy()}
+    out.update({name: s[:, i] for i, name in enumerate(STRESS_NAMES)})
+    out["plastic_strain"] = state.plastic_strain.mean(axis=1)
+    out["yielded"] = state.yielded.mean(axis=1).astype(float)
+    out["failed_interfaces"] = np.bincount(failed, minlength=state.n_elements).astype(float)
+    return out
 
-    Stale frames of an earlier series in the same folder are removed when the series starts;
-    the GIF of all frames is written at close.
+
+_POINT_FIELDS = ("displacement", "velocity", "contact_force")
+_CELL_FIELDS = (*STRESS_NAMES, "plastic_strain", "yielded", "failed_interfaces")
+
+
+def _xdmf_index(nen: int, ne: int, nn: int, material_names: Sequence[str],
+                frames: Sequence[tuple[float, int, str, str]]) -> str:
+    """The XDMF 3 text of the series: the mesh, then one grid per frame file."""
+    def item(ref: str, dims: str, kind: str = "Float", precision: int = 8) -> str:
+        return (f'<DataItem DataType="{kind}" Dimensions="{dims}" Format="HDF" '
+                f'Precision="{precision}">{ref}</DataItem>')
+
+    topo = "Quadrilateral" if nen == 4 else "Triangle"
+    names = "; ".join(f"{i}: {n}" for i, n in enumerate(material_names))
+    lines = ['<?xml version="1.0"?>',
+             '<Xdmf Version="3.0" xmlns:xi="http://www.w3.org/2001/XInclude">', "<Domain>",
+             f'<Information Name="material_names" Value={quoteattr(names)}/>',
+             '<Grid Name="mesh" GridType="Uniform">',
+             f'<Topology TopologyType="{topo}" NumberOfElements="{ne}">'
+             f'{item("discrete.h5:/mesh/topology", f"{ne} {nen}", "Int")}</Topology>',
+             f'<Geometry GeometryType="XY">{item("discrete.h5:/mesh/geometry", f"{nn} 2")}'
+             "</Geometry>", "</Grid>",
+             '<Grid Name="series" GridType="Collection" CollectionType="Temporal">']
+    include = ('<xi:include xpointer="xpointer(//Grid[@Name=&quot;mesh&quot;]/*[self::Topology '
+               'or self::Geometry])"/>')
+    for time, _, _, name in frames:
+        lines += ["<Grid>", include, f'<Time Value="{time!r}"/>']
+        lines += [f'<Attribute Name="{f}" AttributeType="Vector" Center="Node">'
+                  f'{item(f"{name}:/{f}", f"{nn} 2")}</Attribute>' for f in _POINT_FIELDS]
+        lines += [f'<Attribute Name="{f}" AttributeType="Scalar" Center="Cell">'
+                  f'{item(f"{name}:/{f}", str(ne))}</Attribute>' for f in _CELL_FIELDS]
+        lines += ['<Attribute Name="material" AttributeType="Scalar" Center="Cell">'
+                  f'{item("discrete.h5:/mesh/material", str(ne), "Int", 4)}</Attribute>',
+                  "</Grid>"]
+    lines += ["</Grid>", "</Domain>", "</Xdmf>", ""]
+    return "\n".join(lines)
+
+
+def _lost(path: Path, err: OSError, frames: Sequence[tuple[float, int, str, str]]) -> str:
+    last = (f"the last good frame (t = {frames[-1][0]:.6g} s, step {frames[-1][1]})"
+            if frames else "no frame")
+    return (f"writing {path} failed ({err.strerror or err}): {last} and the last checkpoint "
+            "stay readable; free space (or choose another --out) and continue with --resume")
+
+
+class Animation(Observer):
+    """At close: the series' frames as ``discrete.mp4`` (ffmpeg) or ``discrete.gif`` and PNGs.
+
+    sigma_yy per element on the deformed elements; the axes span every frame and the colour
+    range is the 1st to 99th percentile of all frames, both fixed for the whole animation;
+    each frame is titled with its run phase and time. The PNG frames go to ``frames/``,
+    cleared when the series starts; ``animation.json`` lists each frame's time, phase, colour
+    range and axes.
     """
 
-    def _start(self, state: DiscreteState) -> None:
-        frames = self.out / "frames"
-        frames.mkdir(exist_ok=True)
-        for old in frames.glob("frame_*.png"):
-            old.unlink()
-        self._frames: list[Path] = []
+    def __init__(self, series: XdmfSeries) -> None:
+        """The animation of ``series`` (attached before it, closed after it)."""
+        self.series = series
+        self.files: list[Path] = []
+        self.limits: list[tuple[tuple[float, float], ...]] = []  # per frame: clim, xlim, ylim
+        self._cleared = False
 
-    def _write(self, state: DiscreteState) -> None:
-        path = _snapshot(state, self.out / "frames" / f"frame_{len(self._frames):04d}.png")
-        self._frames.append(path)
-        self.files.append(path)
+    def run_started(self, solver: ExplicitSolver, total_steps: int | None) -> None:
+        """Clear the PNG frames of an earlier series (not those of a resumed one)."""
+        if not self._cleared and len(self.series.frames) <= 1:
+            _clear_frames(self.series.out / "frames")
+        self._cleared = True
 
-    def _finish(self) -> None:
-        gif = _gif(self._frames, self.out / "discrete.gif")
-        if gif is not None:
-            self.files.append(gif)
+    def close(self, solver: ExplicitSolver, final: bool) -> None:
+        """Render the frames of the series."""
+        if not self.series.frames:
+            return
+        self.files = self.render(solver.state)
+
+    def render(self, state: DiscreteState) -> list[Path]:
+        """Write the PNG frames and the animation; returns their paths."""
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+        from matplotlib import animation
+        from matplotlib.collections import PolyCollection
+
+        series = self.series
+        out = series.out
+        frames_dir = out / "frames"
+        _clear_frames(frames_dir)
+        data = [series.read_frame(i) for i in range(len(series.frames))]
+        nodes = state.element_nodes
+        polys = [(state.x_ref + d["displacement"])[nodes] for d in data]
+        values = np.concatenate([d["sigma_yy"] for d in data])
+        lo, hi = np.percentile(values, [1.0, 99.0])
+        if hi <= lo:
+            lo, hi = lo - 1.0, hi + 1.0
+        allx = np.concatenate([p.reshape(-1, 2) for p in polys])
+        pmin, pmax = allx.min(axis=0), allx.max(axis=0)
+        pad = 0.05 * float(np.max(pmax - pmin))
+        xlim, ylim = (pmin[0] - pad, pmax[0] + pad), (pmin[1] - pad, pmax[1] + pad)
+        fig, ax = plt.subplots(figsize=(7, 5), dpi=90)
+        pc = PolyCollection(polys[0], array=data[0]["sigma_yy"], cmap="viridis",
+                            edgecolors="k", linewidths=0.2)
+        pc.set_clim(lo, hi)
+        ax.add_collection(pc)
+        fig.colorbar(pc, ax=ax, label="sigma_yy [kPa] (tension +)", extend="both")
+        ax.set_xlim(*xlim)
+        ax.set_ylim(*ylim)
+        ax.set_aspect("equal")
+        ax.set_xlabel("x [m]")
+        ax.set_ylabel("y [m]")
+        title = ax.set_title("")
+        fig.tight_layout()
+        if animation.writers.is_available("ffmpeg"):
+            movie, writer = out / "discrete.mp4", animation.FFMpegWriter(fps=10)
+        else:
+            movie, writer = out / "discrete.gif", animation.PillowWriter(fps=10)
+        stale = out / ("discrete.gif" if movie.suffix == ".mp4" else "discrete.mp4")
+        stale.unlink(missing_ok=True)
+        written = []
+        self.limits = []
+        with writer.saving(fig, str(movie), fig.dpi):
+            for i, (d, p) in enumerate(zip(data, polys, strict=True)):
+                time, step, phase, _ = series.frames[i]
+                pc.set_verts(p)
+                pc.set_array(d["sigma_yy"])
+                title.set_text(f"{phase}: t = {time:.4g} s (step {step})")
+                writer.grab_frame()
+                png = frames_dir / f"frame_{i:04d}.png"
+                fig.savefig(png)
+                written.append(png)
+                self.limits.append((pc.get_clim(), ax.get_xlim(), ax.get_ylim()))
+        plt.close(fig)
+        record = out / "animation.json"
+        record.write_text(json.dumps({"movie": movie.name, "field": "sigma_yy", "frames": [
+            {"time": f[0], "step": f[1], "phase": f[2], "colour_range": list(lim[0]),
+             "xlim": list(lim[1]), "ylim": list(lim[2])}
+            for f, lim in zip(series.frames, self.limits, strict=True)]}, indent=1))
+        return [*written, movie, record]
+
+
+def _clear_frames(folder: Path) -> None:
+    folder.mkdir(parents=True, exist_ok=True)
+    for old in folder.glob("frame_*.png"):
+        old.unlink()
 
 
 class Checkpoints(Observer):
-    """``state.save`` to ``out_dir/checkpoint.npz`` every ``every`` steps and after each run."""
+    """``checkpoint.npz`` in ``out_dir`` every ``every`` steps and after each run.
 
-    def __init__(self, out_dir: str | Path, every: int) -> None:
+    The file holds the state and the solver's progress (``ExplicitSolver.checkpoint_arrays``);
+    it is written to a temporary file and renamed, the previous one kept as
+    ``checkpoint.prev.npz``. With ``resume`` and a checkpoint in ``out_dir``, the solver
+    continues from it when it is made (``ExplicitSolver.restore``).
+    """
+
+    def __init__(self, out_dir: str | Path, every: int, *, resume: bool = False) -> None:
         """Checkpoint in ``out_dir``, every ``every`` steps of the solver."""
-        self.path = Path(out_dir) / "checkpoint.npz"
+        self.path = Path(out_dir) / CHECKPOINT
         self.every = _check_every("checkpoint_every", every)
+        self.resume = resume
         self.files: list[Path] = []
 
-    def _save(self, state: DiscreteState) -> None:
+    def attached(self, solver: ExplicitSolver) -> None:
+        """Resume the solver from the checkpoint (with ``resume``)."""
+        if self.resume and self.path.exists():
+            solver.restore(self.path)
+            self.files.append(self.path)
+
+    def _save(self, solver: ExplicitSolver) -> None:
         self.path.parent.mkdir(parents=True, exist_ok=True)
-        state.save(self.path)
+        tmp = self.path.with_name(self.path.name + ".tmp")
+        try:
+            with open(tmp, "wb") as f:
+                np.savez(f, **solver.checkpoint_arrays())
+            if self.path.exists():  # the previous one stays: hard link, then rename
+                prev = self.path.with_name(PREVIOUS_CHECKPOINT)
+                link = prev.with_name(prev.name + ".tmp")
+                link.unlink(missing_ok=True)
+                try:
+                    os.link(self.path, link)
+                except OSError:
+                    shutil.copy2(self.path, link)
+                os.replace(link, prev)
+            _replace(tmp, self.path)
+        except OSError as err:
+            tmp.unlink(missing_ok=True)
+            raise OutputError(
+                f"writing the checkpoint {self.path} failed ({err.strerror or err}): the "
+                f"previous checkpoint stays readable; free space (or choose another --out) "
+                "and continue with --resume") from None
         if not self.files:
             self.files.append(self.path)
 
     def stepped(self, solver: ExplicitSolver) -> None:
         """Save every ``every`` steps of the solver."""
         if solver.steps % self.every == 0:
-            self._save(solver.state)
+            self._save(solver)
 
     def run_ended(self, solver: ExplicitSolver, result: RunResult | None) -> None:
         """Save at the end of a run that did not raise."""
         if result is not None:
-            self._save(solver.state)
+            self._save(solver)
 
 
 class ProgressBar(Observer):
@@ -214,28 +476,34 @@ class ProgressBar(Observer):
 
 def standard_outputs(out_dir: str | Path | None, *, output_every: int = 0,
                      snapshots: bool = True, checkpoint_every: int = 0,
-                     progress: bool = True) -> list[Observer]:
-    """The usual observers: XDMF series and PNG frames, checkpoints, a progress bar.
+                     progress: bool = True, material_names: Sequence[str] = (),
+                     resume: bool | None = None) -> list[Observer]:
+    """The usual observers: XDMF series and animation, checkpoints, a progress bar.
 
     Args:
         out_dir: folder of the files (needed when output_every or checkpoint_every > 0).
-        output_every: steps between XDMF frames (and PNG frames with ``snapshots``); 0: none.
-        snapshots: PNG frames and the GIF along with the XDMF series.
+        output_every: steps between XDMF frames; 0: none.
+        snapshots: the animation and its PNG frames along with the XDMF series.
         checkpoint_every: steps between checkpoints (and one after each run); 0: none.
         progress: a tqdm progress bar per run.
+        material_names: the materials' names by index, for the series.
+        resume: continue from the checkpoint in ``out_dir`` (None: as ``hybrid run
+            --resume`` says, :data:`RESUME`).
     """
     for name, val in (("output_every", output_every), ("checkpoint_every", checkpoint_every)):
         if int(val) != val or val < 0:
             raise ValueError(f"{name} = {val!r}: must be an integer >= 0")
     if (output_every or checkpoint_every) and out_dir is None:
         raise ValueError("output_every / checkpoint_every need out_dir")
+    resume = RESUME.get() if resume is None else resume
     obs: list[Observer] = []
     if out_dir is not None and output_every:
-        obs.append(XdmfSeries(out_dir, output_every))
+        series = XdmfSeries(out_dir, output_every, material_names=material_names)
+        obs.append(series)
         if snapshots:
-            obs.append(Frames(out_dir, output_every))
+            obs.append(Animation(series))
     if out_dir is not None and checkpoint_every:
-        obs.append(Checkpoints(out_dir, checkpoint_every))
+        obs.append(Checkpoints(out_dir, checkpoint_every, resume=resume))
     if progress:
         obs.append(ProgressBar())
     return obs
@@ -249,40 +517,3 @@ def frame_interval(duration: float, dt: float, frames: int) -> int:
     if int(frames) != frames or frames < 0:
         raise ValueError(f"frames = {frames!r}: must be an integer >= 0")
     return max(int(duration / dt) // int(frames), 1) if frames else 0
-
-
-def _snapshot(state: DiscreteState, path: Path) -> Path:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    from matplotlib.collections import PolyCollection
-
-    polys = state.x[state.element_nodes]
-    fig, ax = plt.subplots(figsize=(6, 5), dpi=80)
-    pc = PolyCollection(polys, array=state.stress[:, :, 1].mean(axis=1), cmap="viridis",
-                        edgecolors="k", linewidths=0.2)
-    ax.add_collection(pc)
-    fig.colorbar(pc, ax=ax, label="sigma_yy [kPa]")
-    lo = state.x_ref.min(axis=0)
-    hi = state.x_ref.max(axis=0)
-    pad = 0.05 * float(np.max(hi - lo))
-    ax.set_xlim(min(lo[0], state.x[:, 0].min()) - pad, max(hi[0], state.x[:, 0].max()) + pad)
-    ax.set_ylim(min(lo[1], state.x[:, 1].min()) - pad, max(hi[1], state.x[:, 1].max()) + pad)
-    ax.set_aspect("equal")
-    ax.set_title(f"t = {state.time:.4g} s, step {state.step}")
-    fig.savefig(path)
-    plt.close(fig)
-    return path
-
-
-def _gif(frames: list[Path], path: Path) -> Path | None:
-    if not frames:
-        return None
-    try:
-        from PIL import Image
-    except ImportError:  # pragma: no cover
-        return None
-    imgs = [Image.open(f).convert("P") for f in frames]
-    imgs[0].save(path, save_all=True, append_images=imgs[1:], duration=100, loop=0)
-    return path

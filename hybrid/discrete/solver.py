@@ -42,6 +42,7 @@ from hybrid.discrete.state import (
     LEDGER_CONTACT_NORMAL,
     LEDGER_FRICTION,
     DiscreteState,
+    read_checkpoint,
 )
 from hybrid.errors import RunUnstable
 
@@ -162,6 +163,54 @@ class RunResult:
     element_steps_per_s: float
     n_split: int  # interfaces broken during this run
     history: dict[str, np.ndarray] = field(default_factory=dict)  # energy ledger per check
+    phase: str = ""  # the run's name in the outputs
+
+
+_RESULT_NUMBERS = ("steps", "time", "dt", "wall_time", "element_steps_per_s", "n_split")
+
+
+@dataclass
+class _Progress:
+    """A run in progress: everything that decides its future, saved in checkpoints."""
+
+    call: str  # the run's arguments (a resumed solver must be called the same way)
+    phase: str  # name of the run in the outputs
+    n_total: int | None  # steps of the run when bounded
+    external: bool  # loads were non-zero when the run started
+    led0: EnergyLedger  # ledger at the start of the run
+    monitor: _Monitor
+    split0: int  # ``ExplicitSolver.n_split`` at the start
+    k: int = 0  # steps done
+    peak_ke: float = 0.0  # peak kinetic energy of the run (rest detection) [kJ/m]
+    hist: dict[str, list[float]] = field(
+        default_factory=lambda: {k: [] for k in HISTORY_KEYS})
+
+    def arrays(self, prefix: str) -> dict[str, np.ndarray]:
+        """The progress as named arrays (no pickle)."""
+        out = {f"{prefix}call": np.array(self.call), f"{prefix}phase": np.array(self.phase),
+               f"{prefix}numbers": np.array([
+                   -1 if self.n_total is None else self.n_total, int(self.external),
+                   self.split0, self.k], dtype=np.int64),
+               f"{prefix}peak_ke": np.array(self.peak_ke),
+               f"{prefix}led0": np.array(list(self.led0.as_dict().values())),
+               f"{prefix}monitor": self.monitor.state()}
+        out.update({f"{prefix}hist.{k}": np.array(v, dtype=float) for k, v in self.hist.items()})
+        return out
+
+    @classmethod
+    def from_arrays(cls, a: dict[str, np.ndarray], prefix: str, state: DiscreteState,
+                    dt: float, contact: bool | None = None) -> _Progress:
+        """The progress saved by :meth:`arrays`."""
+        n_total, external, split0, k = (int(v) for v in a[f"{prefix}numbers"])
+        led0 = EnergyLedger(*(float(v) for v in a[f"{prefix}led0"]))
+        monitor = _Monitor(state, led0, dt, contact)
+        monitor.restore(a[f"{prefix}monitor"])
+        return cls(call=str(a[f"{prefix}call"]), phase=str(a[f"{prefix}phase"]),
+                   n_total=None if n_total < 0 else n_total, external=bool(external),
+                   led0=led0, monitor=monitor, split0=split0, k=k,
+                   peak_ke=float(a[f"{prefix}peak_ke"]),
+                   hist={key: [float(v) for v in a[f"{prefix}hist.{key}"]]
+                         for key in HISTORY_KEYS})
 
 
 class Observer:
@@ -187,6 +236,16 @@ class Observer:
 
     def close(self, solver: ExplicitSolver, final: bool) -> None:
         """The solver is closed (``final``: normally, not after an error)."""
+
+    def attached(self, solver: ExplicitSolver) -> None:
+        """The solver is made (an output that resumes restores the solver here)."""
+
+    def state(self) -> dict[str, np.ndarray]:
+        """What decides the observer's future outputs, for the solver's checkpoints."""
+        return {}
+
+    def restore(self, saved: dict[str, np.ndarray]) -> None:
+        """Continue from what :meth:`state` returned (the solver resumes a checkpoint)."""
 
 
 
@@ -257,6 +316,10 @@ class ExplicitSolver:
         self._split_every = int(o.split_every)
         self._refresh = max(int(o.contact_refresh), 1)
         self._closed = False
+        self._done: list[tuple[str, RunResult]] = []  # runs that ended: (call, result)
+        self._replay: list[tuple[str, RunResult]] = []  # of a checkpoint, not yet called again
+        self._run: _Progress | None = None  # the run in progress
+        self._resumed: _Progress | None = None  # of a checkpoint, to continue
         # work arrays of the step, reused: contact force, its damping and tangential parts and
         # the start-of-step velocity (for the ledger), the contact loop's buffers
         # (empty without contact)
@@ -266,6 +329,8 @@ class ExplicitSolver:
         self._v_start: np.ndarray = np.zeros((n_work, 2))
         self._cbuf: Any = ContactBuffers() if self.contact else None
         self._begin()
+        for obs in self.observers:
+            obs.attached(self)
 
     # -- one step ----------------------------------------------------------------------------
     def _begin(self) -> None:
@@ -327,6 +392,11 @@ class ExplicitSolver:
                 self.n_split += ties.split_interfaces(st, modes > 0)
         self.steps += 1
 
+    @property
+    def contact_force(self) -> np.ndarray:
+        """(n_nodes, 2) contact force of the last step [kN/m] (zero without contact)."""
+        return self._cforce if self.contact else np.zeros_like(self.state.x)
+
     def ledger(self) -> EnergyLedger:
         """The energy ledger of the state now."""
         return EnergyLedger.measure(self.state)
@@ -335,7 +405,8 @@ class ExplicitSolver:
     def run(self, *, until_time: float | None = None, max_steps: int | None = None,
             until_rest: float | None = None, check_every: int = 100,
             rest_min_steps: int = 200,
-            on_check: Callable[[DiscreteState], bool | None] | None = None) -> RunResult:
+            on_check: Callable[[DiscreteState], bool | None] | None = None,
+            phase: str | None = None) -> RunResult:
         """Advance the state until a time, a step count or rest, whichever comes first.
 
         Args:
@@ -349,6 +420,11 @@ class ExplicitSolver:
             on_check: called with the state at every check; it may change loads
                 (``external_force``, load histories) and returns True to stop the run (stop
                 reason "callback"). Loads are read as non-zero when the run starts.
+            phase: the run's name in the outputs (animation titles; default "run N").
+
+        A solver that resumed a checkpoint (:meth:`restore`) returns the saved results of
+        the runs that had ended before it and continues the run it was in, so that calling
+        the same runs again ends bit for bit as the uninterrupted solver.
 
         Returns:
             Why and where the run stopped, with the ledger history of its checks.
@@ -374,6 +450,13 @@ class ExplicitSolver:
         if self._closed:
             raise RuntimeError("this solver is closed: make a new ExplicitSolver")
         check_every = max(int(check_every), 1)
+        phase = phase if phase is not None else f"run {len(self._done) + 1}"
+        call = repr((until_time, max_steps, until_rest, check_every, rest_min_steps, phase))
+        if self._replay:  # a run that had ended before the checkpoint
+            saved_call, result = self._replay.pop(0)
+            self._check_call(saved_call, call)
+            self._done.append((saved_call, result))
+            return result
         st, dt = self.state, self.dt
         fault = _input_fault(st)
         if fault is not None:
@@ -382,41 +465,49 @@ class ExplicitSolver:
         if not st.primed:
             integrate.prime(st)
         self._begin()
-
-        n_total = max_steps if max_steps is not None else None
-        if until_time is not None:
-            n_time = max(int(math.ceil((until_time - st.time) / dt - 1e-9)), 0)
-            n_total = n_time if n_total is None else min(n_total, n_time)
-        led0 = EnergyLedger.measure(st)
-        monitor = _Monitor(st, led0, dt, self.contact)
-        hist: dict[str, list[float]] = {k: [] for k in HISTORY_KEYS}
-        peak_ke = led0.kinetic
-        split0 = self.n_split
+        r = self._resumed
+        if r is not None:  # the run the checkpoint was taken in
+            self._resumed = None
+            self._check_call(r.call, call)
+            self._external = r.external
+        else:
+            n_total = max_steps if max_steps is not None else None
+            if until_time is not None:
+                n_time = max(int(math.ceil((until_time - st.time) / dt - 1e-9)), 0)
+                n_total = n_time if n_total is None else min(n_total, n_time)
+            led0 = EnergyLedger.measure(st)
+            r = _Progress(call=call, phase=phase, n_total=n_total, external=self._external,
+                          led0=led0, monitor=_Monitor(st, led0, dt, self.contact),
+                          split0=self.n_split,
+                          peak_ke=led0.kinetic)
+        self._run = r
+        n_total, monitor, hist, led0 = r.n_total, r.monitor, r.hist, r.led0
         stop = "steps"
-        k = 0
         observers = self.observers
         for obs in observers:
-            obs.run_started(self, n_total)
+            obs.run_started(self, None if n_total is None else n_total - r.k)
+        k0 = r.k
         t0 = _time.perf_counter()
         try:
             while True:
-                if n_total is not None and k >= n_total:
+                if n_total is not None and r.k >= n_total:
                     stop = "time" if (until_time is not None
                                       and st.time >= until_time - 0.5 * dt) else "steps"
                     break
                 self.step()
-                k += 1
+                r.k += 1
+                k = r.k
                 if k % check_every == 0 or (n_total is not None and k == n_total):
                     led = EnergyLedger.measure(st)
                     monitor.check(st, led)
                     _check_distortion(st, dt, self.contact)
                     monitor.e_prev = led.mechanical
-                    peak_ke = max(peak_ke, led.kinetic)
+                    r.peak_ke = max(r.peak_ke, led.kinetic)
                     _record(hist, st, led, led0)
                     for obs in observers:
                         obs.checked(self, led)
                     if (until_rest is not None and k >= rest_min_steps
-                            and led.kinetic <= until_rest * max(peak_ke, led.strain)):
+                            and led.kinetic <= until_rest * max(r.peak_ke, led.strain)):
                         stop = "rest"
                         break
                     if on_check is not None and on_check(st):
@@ -425,6 +516,7 @@ class ExplicitSolver:
                 for obs in observers:
                     obs.stepped(self)
         except BaseException:
+            self._run = None
             for obs in observers:
                 obs.run_ended(self, None)
             raise
@@ -433,14 +525,109 @@ class ExplicitSolver:
             led = EnergyLedger.measure(st)
             monitor.check(st, led)
             _record(hist, st, led, led0)
+        k = r.k
         log.info("discrete run: %d steps, stop=%s, %.3g s wall", k, stop, wall)
         result = RunResult(stop_reason=stop, steps=k, time=st.time, dt=dt, wall_time=wall,
-                           element_steps_per_s=k * st.n_elements / wall if wall > 0 else 0.0,
-                           n_split=self.n_split - split0,
-                           history={kk: np.asarray(v) for kk, v in hist.items()})
+                           element_steps_per_s=(k - k0) * st.n_elements / wall if wall > 0
+                           else 0.0,
+                           n_split=self.n_split - r.split0,
+                           history={kk: np.asarray(v) for kk, v in hist.items()}, phase=r.phase)
+        self._run = None
+        self._done.append((call, result))
         for obs in observers:
             obs.run_ended(self, result)
         return result
+
+    @property
+    def phase(self) -> str:
+        """Name of the run in progress, or of the last run ("" before the first)."""
+        if self._run is not None:
+            return self._run.phase
+        return self._done[-1][1].phase if self._done else ""
+
+    # -- checkpoints -------------------------------------------------------------------------
+    def checkpoint_arrays(self) -> dict[str, np.ndarray]:
+        """The state's fields and everything else that decides the solver's future, by name.
+
+        Beside the state: the solver's step and split counters, the results of the runs
+        that ended, the run in progress (its step, peak kinetic energy for rest detection,
+        ledger at its start, monitor, history) and the observers' counters.
+        :meth:`restore` continues from them bit for bit.
+        """
+        out = self.state.arrays()
+        out["solver.numbers"] = np.array([self.steps, self.n_split, self.active_contacts,
+                                          len(self._done)], dtype=np.int64)
+        for i, (call, res) in enumerate(self._done):
+            p = f"solver.done{i}."
+            out[p + "call"] = np.array(call)
+            out[p + "stop_reason"] = np.array(res.stop_reason)
+            out[p + "phase"] = np.array(res.phase)
+            out[p + "numbers"] = np.array([float(getattr(res, n)) for n in _RESULT_NUMBERS])
+            out.update({f"{p}hist.{k}": np.asarray(v, dtype=float)
+                        for k, v in res.history.items()})
+        if self._run is not None:
+            out.update(self._run.arrays("solver.run."))
+        for i, obs in enumerate(self.observers):
+            out.update({f"solver.obs{i}.{k}": np.asarray(v) for k, v in obs.state().items()})
+        return out
+
+    def restore(self, path: str | Path) -> None:
+        """Continue from a checkpoint written from :meth:`checkpoint_arrays`.
+
+        The state's arrays are replaced in place (so references to ``solver.state`` stay
+        valid), then the counters, the runs and the observers. Call the same runs as the
+        interrupted solver: those that had ended return their saved results and the one in
+        progress continues.
+        """
+        fields_, extra = read_checkpoint(path)
+        st = self.state
+        if (fields_["x"].shape != st.x.shape
+                or fields_["element_nodes"].shape != st.element_nodes.shape):
+            raise ValueError(f"checkpoint {path} holds {fields_['x'].shape[0]} nodes and "
+                             f"{fields_['element_nodes'].shape[0]} elements, the solver's state "
+                             f"{st.n_nodes} and {st.n_elements}: a checkpoint of another model")
+        if "solver.numbers" not in extra:
+            raise ValueError(f"checkpoint {path} holds a state only (DiscreteState.save): "
+                             "load it with DiscreteState.load and start a new solver on it")
+        if self.options.dt is not None and fields_["dt"] != self.options.dt:
+            raise ValueError(f"checkpoint {path} ran with dt = {fields_['dt']:.6g} s, the "
+                             f"options give dt = {self.options.dt:.6g} s: resume with the same "
+                             "options")
+        for name, value in fields_.items():
+            setattr(st, name, value)
+        self.dt = st.dt
+        integrate.check_dt(st, self.dt, contact=self.contact)
+        self.steps, self.n_split, self.active_contacts, n_done = (
+            int(v) for v in extra["solver.numbers"])
+        done = []
+        for i in range(n_done):
+            p = f"solver.done{i}."
+            nums = dict(zip(_RESULT_NUMBERS, extra[p + "numbers"], strict=True))
+            res = RunResult(stop_reason=str(extra[p + "stop_reason"]),
+                            steps=int(nums["steps"]), time=float(nums["time"]),
+                            dt=float(nums["dt"]), wall_time=float(nums["wall_time"]),
+                            element_steps_per_s=float(nums["element_steps_per_s"]),
+                            n_split=int(nums["n_split"]),
+                            history={k: extra[f"{p}hist.{k}"] for k in HISTORY_KEYS},
+                            phase=str(extra[p + "phase"]))
+            done.append((str(extra[p + "call"]), res))
+        self._replay = done
+        self._done = []
+        self._resumed = (_Progress.from_arrays(extra, "solver.run.", st, self.dt,
+                                                 self.contact)
+                         if "solver.run.numbers" in extra else None)
+        for i, obs in enumerate(self.observers):
+            p = f"solver.obs{i}."
+            obs.restore({k[len(p):]: v for k, v in extra.items() if k.startswith(p)})
+        self._begin()
+
+    @staticmethod
+    def _check_call(saved: str, call: str) -> None:
+        if saved != call:
+            raise ValueError(f"the resumed solver's run was called with (until_time, max_steps, "
+                             f"until_rest, check_every, rest_min_steps, phase) = {call}, the "
+                             f"checkpoint's with {saved}: call the runs as the interrupted "
+                             "script did")
 
     # -- lifetime ----------------------------------------------------------------------------
     @property
@@ -594,6 +781,14 @@ class _Monitor:
         self.e_prev = self.e_start
         self.dt = dt
         self.contact = contact
+
+    def state(self) -> np.ndarray:
+        """What the monitor's future checks depend on, for checkpoints."""
+        return np.array([self.e_start, self.src0, self.tol_e, self.e_prev])
+
+    def restore(self, saved: np.ndarray) -> None:
+        """Continue from :meth:`state`."""
+        self.e_start, self.src0, self.tol_e, self.e_prev = (float(v) for v in saved)
 
     def check(self, state: DiscreteState, led: EnergyLedger) -> None:
         """Raise RuntimeError if the state with ledger ``led`` is unstable."""

@@ -9,6 +9,7 @@ Sign convention: tension positive. Stress in Voigt order (xx, yy, zz, xy).
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Sequence
 from dataclasses import dataclass, field, fields
 from pathlib import Path
@@ -20,7 +21,7 @@ from hybrid.constitutive.softening import characteristic_length
 from hybrid.constitutive.table import TABLE_WIDTH, kernel_table, tension_cutoff
 from hybrid.materials import GRAVITY, Material
 
-__all__ = ["DiscreteState", "from_mesh", "material_rows", "check_elements",
+__all__ = ["DiscreteState", "from_mesh", "material_rows", "check_elements", "read_checkpoint",
            "groups_csr", "Q4_GAUSS"]
 
 #: Default of the engine's work arrays: ``__post_init__`` makes them to the state's size.
@@ -242,36 +243,188 @@ class DiscreteState:
         return DiscreteState(**kw)
 
     # -- checkpoints (npz, no pickle) -----------------------------------------------------------
+    def arrays(self) -> dict[str, np.ndarray]:
+        """Every field as an array, by name (what ``save`` writes)."""
+        return {f.name: np.asarray(getattr(self, f.name)) for f in fields(self)}
+
     def save(self, path: str | Path) -> Path:
         """Write every field to an ``.npz`` file (no pickle); ``load`` restarts bit for bit."""
         path = Path(path)
-        arrays: dict[str, np.ndarray] = {}
-        for f in fields(self):
-            v = getattr(self, f.name)
-            arrays[f.name] = np.asarray(v)
-        np.savez(path, **arrays)
+        np.savez(path, **self.arrays())
         return path if path.suffix == ".npz" else path.with_suffix(path.suffix + ".npz")
 
     @classmethod
     def load(cls, path: str | Path) -> DiscreteState:
-        """Read a checkpoint written by ``save``."""
-        with np.load(path, allow_pickle=False) as data:
-            kw: dict[str, Any] = {}
-            for f in fields(cls):
-                if f.name not in data:
-                    if f.default is None:  # optional field of a newer layout
-                        continue
-                    raise ValueError(f"checkpoint {path} lacks field {f.name!r}")
-                a = data[f.name]
-                if f.name in ("time", "dt"):
-                    kw[f.name] = float(a)
-                elif f.name == "step":
-                    kw[f.name] = int(a)
-                elif f.name == "primed":
-                    kw[f.name] = bool(a)
-                else:
-                    kw[f.name] = np.ascontiguousarray(a)
-        return cls(**kw)
+        """Read a checkpoint written by ``save``, checked before any kernel sees it.
+
+        Shapes, dtypes, sizes and index ranges are checked against each other; a file that
+        is not a checkpoint, or one whose arrays would not fit the state they claim, is
+        refused with a ValueError naming the field.
+        """
+        return cls(**read_checkpoint(path)[0])
+
+
+#: a checkpoint may hold at most this many bytes of arrays (uncompressed) per byte on disk,
+#: above ``_SMALL_CHECKPOINT``: ``save`` stores arrays uncompressed (ratio ~1); a small file
+#: that inflates into a huge array is refused before it is read
+_INFLATION = 50.0
+_SMALL_CHECKPOINT = 64 * 2**20  # [bytes]
+
+#: the checkpoint's fields: (dtype kind, shape in the state's sizes); sizes: N nodes,
+#: E elements, G gauss points per element (4 Q4, 1 T3), K nodes per element (4 Q4, 3 T3),
+#: M materials, S tie groups, I interfaces, P contact pairs, L rigid links, W table width
+_LAYOUT: dict[str, tuple[str, tuple[str | int, ...]]] = {
+    "x": ("f8", ("N", 2)), "x_ref": ("f8", ("N", 2)), "v": ("f8", ("N", 2)),
+    "mass": ("f8", ("N",)), "element_nodes": ("i8", ("E", "K")),
+    "element_material": ("i4", ("E",)), "stress": ("f8", ("E", "G", 4)),
+    "plastic_strain": ("f8", ("E", "G")), "yielded": ("i1", ("E", "G")),
+    "node_group": ("i8", ("N",)), "group_ptr": ("i8", ("S+1",)),
+    "group_nodes": ("i8", ("N",)), "interface_elements": ("i8", ("I", 2)),
+    "interface_nodes": ("i8", ("I", 4)), "interface_intact": ("b1", ("I",)),
+    "interface_splittable": ("b1", ("I",)), "fixed": ("b1", ("N", 2)),
+    "prescribed_velocity": ("f8", ("N", 2)), "external_force": ("f8", ("N", 2)),
+    "material_table": ("f8", ("M", "W")), "density": ("f8", ("M",)),
+    "elastic_only": ("b1", ("M",)), "interface_table": ("f8", ("M", 3)),
+    "contact_table": ("f8", ("M", 4)), "gravity": ("f8", (2,)), "time": ("f8", ()),
+    "step": ("i8", ()), "internal_force": ("f8", ("N", 2)), "group_mass": ("f8", ("S",)),
+    "group_energy": ("f8", ("S", 4)), "ledger": ("f8", (8,)),
+    "contact_pairs": ("i8", ("P", 2)), "contact_shear": ("f8", ("P", 2)),
+    "primed": ("b1", ()), "dt": ("f8", ()), "rigid_links": ("i8", ("L", 2)),
+    "element_length": ("f8", ("E",)),
+}
+#: index arrays and the size their entries index
+_INDEX_RANGE = {"element_nodes": "N", "element_material": "M", "node_group": "S",
+                "group_nodes": "N", "interface_elements": "E", "interface_nodes": "N",
+                "contact_pairs": "E", "rigid_links": "N"}
+
+
+def _headers(path: Path, fh: Any) -> dict[str, tuple[tuple[int, ...], np.dtype]]:
+    """Shape and dtype of every array of the npz file open as ``fh``, from the headers only."""
+    import zipfile
+
+    try:
+        size_on_disk = os.fstat(fh.fileno()).st_size
+        with zipfile.ZipFile(fh) as zf:
+            infos = [i for i in zf.infolist() if i.filename.endswith(".npy")]
+            inflated = sum(i.file_size for i in infos)
+            if inflated > max(_INFLATION * size_on_disk, _SMALL_CHECKPOINT):
+                raise ValueError(f"checkpoint {path} would inflate to {inflated / 2**20:.0f} "
+                                 f"MiB from {size_on_disk / 2**20:.2g} MiB on disk: not a "
+                                 "checkpoint written by DiscreteState.save; use another one")
+            out = {}
+            for info in infos:
+                with zf.open(info) as f:
+                    version = np.lib.format.read_magic(f)
+                    read = (np.lib.format.read_array_header_1_0 if version == (1, 0)
+                            else np.lib.format.read_array_header_2_0)
+                    shape, _, dtype = read(f)
+                if dtype.hasobject:
+                    raise ValueError(f"checkpoint {path}: field {info.filename[:-4]!r} holds "
+                                     "Python objects; a checkpoint holds plain arrays only")
+                out[info.filename[:-4]] = (tuple(shape), dtype)
+    except (OSError, EOFError, zipfile.BadZipFile) as err:
+        raise ValueError(f"checkpoint {path} cannot be read ({err}): it is missing, truncated "
+                         "or not an npz file; restart from the previous checkpoint "
+                         "(checkpoint.prev.npz) or from the start") from None
+    return out
+
+
+def _sizes(path: Path, heads: dict[str, tuple[tuple[int, ...], np.dtype]]) -> dict[str, int]:
+    """The state's sizes (N, E, ...) read from the arrays that define them."""
+    def dim(name: str, axis: int) -> int:
+        shape = heads[name][0]
+        if len(shape) <= axis:
+            raise ValueError(f"checkpoint {path}: field {name!r} has shape {shape}, expected "
+                             f"{len(_LAYOUT[name][1])} dimensions")
+        return int(shape[axis])
+
+    k = dim("element_nodes", 1)
+    if k not in (3, 4):
+        raise ValueError(f"checkpoint {path}: element_nodes has {k} nodes per element, "
+                         "expected 4 (Q4) or 3 (T3)")
+    return {"N": dim("x", 0), "E": dim("element_nodes", 0), "K": k, "G": 4 if k == 4 else 1,
+            "M": dim("material_table", 0), "S": dim("group_ptr", 0) - 1,
+            "I": dim("interface_elements", 0),
+            "P": dim("contact_pairs", 0) if "contact_pairs" in heads else 0,
+            "L": dim("rigid_links", 0) if "rigid_links" in heads else 0, "W": TABLE_WIDTH,
+            "S+1": dim("group_ptr", 0)}
+
+
+def read_checkpoint(path: str | Path) -> tuple[dict[str, Any], dict[str, np.ndarray]]:
+    """The state's fields of a checkpoint, checked, and its other arrays (the solver's).
+
+    Raises ValueError naming the first field whose name, dtype, shape, size or indices do not
+    fit the state the file describes; no array is read before its header is checked.
+    """
+    path = Path(path)
+    try:
+        fh = open(path, "rb")  # one open file: a checkpoint renamed meanwhile is not mixed in
+    except OSError as err:
+        raise ValueError(f"checkpoint {path} cannot be read ({err.strerror}): it is missing, "
+                         "truncated or not an npz file; restart from the previous checkpoint "
+                         "(checkpoint.prev.npz) or from the start") from None
+    with fh:
+        return _read_checkpoint(path, fh)
+
+
+def _read_checkpoint(path: Path, fh: Any) -> tuple[dict[str, Any], dict[str, np.ndarray]]:
+    heads = _headers(path, fh)
+    # the engine's work arrays may be missing (a checkpoint of an older layout): made anew
+    names = [f.name for f in fields(DiscreteState)
+             if f.name in heads or f.default is not MADE_ON_CREATION]
+    missing = [n for n in names if n not in heads]
+    if missing:
+        raise ValueError(f"checkpoint {path} lacks the field(s) {', '.join(missing)}: not a "
+                         "checkpoint of this version; restart from the handover")
+    sizes = _sizes(path, heads)
+    for name in names:
+        kind, dims = _LAYOUT[name]
+        shape, dtype = heads[name]
+        expected = tuple(sizes[d] if isinstance(d, str) else d for d in dims)
+        if dtype.str.lstrip("<>|=") != kind:
+            raise ValueError(f"checkpoint {path}: field {name!r} has dtype {dtype}, expected "
+                             f"{np.dtype(kind)}; the file is damaged or not written by "
+                             "DiscreteState.save")
+        if shape != expected:
+            raise ValueError(f"checkpoint {path}: field {name!r} has shape {shape}, expected "
+                             f"{expected} for {sizes['N']} nodes and {sizes['E']} elements; "
+                             "the file is damaged or not written by DiscreteState.save")
+    try:
+        fh.seek(0)
+        with np.load(fh, allow_pickle=False) as data:
+            arrays = {n: data[n] for n in heads}
+    except (OSError, EOFError, ValueError, KeyError) as err:
+        raise ValueError(f"checkpoint {path} cannot be read ({err}): restart from the "
+                         "previous checkpoint (checkpoint.prev.npz) or from the start") from None
+    arrays = {n: a if a.ndim == 0 else np.ascontiguousarray(a) for n, a in arrays.items()}
+    for name, size in _INDEX_RANGE.items():
+        if name not in arrays:
+            continue
+        a = arrays[name]
+        if a.size and (a.min() < 0 or a.max() >= sizes[size]):
+            raise ValueError(f"checkpoint {path}: field {name!r} holds indices outside "
+                             f"0..{sizes[size] - 1} (values {a.min()}..{a.max()}); the file is "
+                             "damaged")
+    ptr = arrays["group_ptr"]
+    if ptr[0] != 0 or ptr[-1] != sizes["N"] or np.any(np.diff(ptr) < 0):
+        raise ValueError(f"checkpoint {path}: group_ptr is not a CSR pointer over "
+                         f"{sizes['N']} nodes (0, non-decreasing, ending at n_nodes); the file "
+                         "is damaged")
+    if not np.array_equal(np.sort(arrays["group_nodes"]), np.arange(sizes["N"])):
+        raise ValueError(f"checkpoint {path}: group_nodes is not a permutation of the nodes; "
+                         "the file is damaged")
+    for name in ("time", "dt"):
+        if not np.isfinite(arrays[name]) or arrays[name] < 0:
+            raise ValueError(f"checkpoint {path}: {name} = {arrays[name]} must be finite and "
+                             ">= 0; the file is damaged")
+    if arrays["step"] < 0:
+        raise ValueError(f"checkpoint {path}: step = {arrays['step']} must be >= 0")
+    kw: dict[str, Any] = {}
+    for name in names:
+        a = arrays.pop(name)
+        kw[name] = (float(a) if name in ("time", "dt") else int(a) if name == "step"
+                    else bool(a) if name == "primed" else a)
+    return kw, arrays
 
 
 # --------------------------------------------------------------------------------------------
