@@ -85,6 +85,23 @@ def test_nan_gravity_mid_run_is_named_not_dt():
         run(st, max_steps=2000, check_every=50, on_check=corrupt)
 
 
+def test_nan_coordinates_between_checks_are_an_unstable_run_not_bad_input():
+    """A coordinate that turns NaN between two checks of a run with contact: the run stops as
+    unstable (RunUnstable, exit code 3), before the energy ledger's contact term reads the
+    coordinates and would call them bad input (ValueError, exit code 2)."""
+    from hybrid.errors import RunUnstable
+
+    st = blocks([(1.0, 0.5, 2, 1, (0.0, 0.0), 0), (1.0, 0.5, 2, 1, (0.0, 0.5), 0)], [BLOCK])
+    st.fix(np.isclose(st.x_ref[:, 1], 0.0))  # the upper block rests on the held one
+
+    def corrupt(state):
+        state.x[-1, 0] = math.nan  # a free node of the upper block
+
+    with pytest.raises(RunUnstable, match="non-finite coordinates/velocities"):
+        run(st, max_steps=400, check_every=150, contact_refresh=1000, split_every=0,
+            on_check=corrupt)
+
+
 def test_monitor_stops_slow_growth_beyond_the_margin():
     """The energy grows 1.2x per check (never 10x) and is stopped once above the margin."""
     st = rectangle(1.0, 1.0, 1, 1, material=BLOCK)

@@ -498,6 +498,8 @@ class ExplicitSolver:
                 r.k += 1
                 k = r.k
                 if k % check_every == 0 or (n_total is not None and k == n_total):
+                    if not (np.isfinite(st.x).all() and np.isfinite(st.v).all()):
+                        _raise_non_finite(st, dt, self.contact)  # before the ledger reads x
                     led = EnergyLedger.measure(st)
                     monitor.check(st, led)
                     _check_distortion(st, dt, self.contact)
