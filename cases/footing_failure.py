@@ -41,6 +41,7 @@ from hybrid.discrete.energy import energy_excess, energy_peak_ratio
 from hybrid.discrete.figures import plot_configuration
 from hybrid.discrete.measures import FootingMarks
 from hybrid.discrete.outputs import standard_outputs
+from hybrid.discrete.runs import LoadProgram
 from hybrid.discrete.solver import ExplicitSolver, RunOptions
 from hybrid.geometry import build_mesh, load_builder
 from hybrid.handover import Region, to_discrete
@@ -77,6 +78,8 @@ class Parameters(CaseParameters):
     mass_damping: float = param(2.0, ge=0)  # mass damping alpha [1/s] in the discrete phase
     rest: float = param(1e-4, gt=0)  # kinetic / strain energy ratio taken as rest
     output_every: int = param(400, ge=0)  # discrete steps between outputs (0: none)
+    checkpoint_every: int = param(0, ge=0)  # discrete steps between checkpoints (0: none;
+    #                                         hybrid run --resume continues from the last)
     safety: float = param(0.5, gt=0, le=1)  # time step as a fraction of the stable one
     progress: bool = True  # progress bar of the discrete runs
     split_plastic_strain: float = param(0.05, gt=0)  # bonds also fail beyond this plastic strain
@@ -155,42 +158,26 @@ def main(out: str | Path = "results/footing_failure", **overrides) -> CaseSummar
     marks = FootingMarks.pick(disc, footing_nodes, hand.boundary_nodes["surface"], beside=b,
                               offset=curve[-1][0])
     q0 = q_handover
+    program = LoadProgram(apply=lambda q: hand.set_load_factor(q / q0),
+                          measure=lambda: marks.settlement(disc), start=q0, peak=p.pressure,
+                          target=p.target_settlement, ramp_time=p.ramp_time,
+                          max_time=p.max_time, t_start=disc.time)
     t_start = disc.time
-    phase = {"name": "loading", "t_unload": None, "settlement_at_unloading": None}
-    curve_discrete: list[tuple[float, float]] = []
-
-    def settlement() -> float:
-        return marks.settlement(disc)
-
-    def history(s) -> bool:
-        t = s.time - t_start
-        if phase["name"] == "loading":
-            q = q0 + (p.pressure - q0) * min(t / p.ramp_time, 1.0)
-            if settlement() >= p.target_settlement or t >= p.max_time:
-                phase.update(name="unloading", t_unload=t,
-                             settlement_at_unloading=settlement())
-        if phase["name"] == "unloading":
-            q = p.pressure * max(1.0 - (t - phase["t_unload"]) / p.ramp_time, 0.0)
-            if q == 0.0:
-                phase["name"] = "rest"
-        if phase["name"] == "rest":
-            q = 0.0
-        hand.set_load_factor(q / q0)
-        curve_discrete.append((settlement(), q))
-        return phase["name"] == "rest"
 
     mass0, n0 = float(disc.mass.sum()), disc.n_elements
     options = RunOptions(mass_damping=p.mass_damping, safety=p.safety,
                          split_plastic_strain=p.split_plastic_strain,
                          plastic_strain_cap=p.plastic_strain_cap, split_every=10)
     outputs = standard_outputs(out / "discrete", output_every=p.output_every,
-                               progress=p.progress, material_names=hand.material_names)
+                               checkpoint_every=p.checkpoint_every, progress=p.progress,
+                               material_names=hand.material_names)
     # one solver: the loading run and the rest run make one time series
     with ExplicitSolver(disc, options, observers=outputs) as solver:
         loaded = solver.run(until_time=t_start + p.max_time + 2 * p.ramp_time,
-                            on_check=history, check_every=20, phase="loading")
+                            on_check=program, check_every=20, phase="loading")
         settled = solver.run(until_rest=p.rest, max_steps=200_000, phase="rest")
-    curve_discrete.append((settlement(), 0.0))  # at rest
+    settlement = marks.settlement(disc)
+    curve_discrete = [*program.curve, (settlement, 0.0)]  # ending at rest
     excess = max(energy_excess(loaded.history), energy_excess(settled.history))
     h = settled.history
     rest_ratio = float(h["kinetic"][-1] / max(h["kinetic"].max(), h["strain"][-1]))
@@ -200,9 +187,9 @@ def main(out: str | Path = "results/footing_failure", **overrides) -> CaseSummar
         "elements": disc.n_elements, "mass_t_per_m": float(disc.mass.sum()),
         "dt_s": loaded.dt, "time_loaded_s": loaded.time - t_start,
         "time_to_rest_s": settled.time - t_start,
-        "unloaded_at_s": phase["t_unload"],
-        "settlement_at_unloading_m": phase["settlement_at_unloading"],
-        "final_settlement_m": settlement(),
+        "unloaded_at_s": program.t_unload,
+        "settlement_at_unloading_m": program.at_unloading,
+        "final_settlement_m": settlement,
         "final_total_settlement_m": marks.total_settlement(disc),
         "max_heave_beside_footing_m": marks.heave(disc),
         "interfaces_failed": int((~disc.interface_intact).sum()),
@@ -215,7 +202,7 @@ def main(out: str | Path = "results/footing_failure", **overrides) -> CaseSummar
     }
     checks = summary["checks"]
     checks["reached_target_settlement"] = Check(
-        float(phase["settlement_at_unloading"] or settlement()), p.target_settlement, None, "m",
+        float(program.at_unloading or settlement), p.target_settlement, None, "m",
         "report: settlement when the load was removed (target)")
     checks["energy_excess_over_sources"] = Check(
         excess, 0.0, 0.01, "-", "E_kin + E_strain + E_contact <= E(0) + work of loads/gravity")
@@ -233,7 +220,7 @@ def main(out: str | Path = "results/footing_failure", **overrides) -> CaseSummar
     plot_energy(out / "energy_rest.png", h)
     plot_configuration(out / "final.png", disc, window=window, outline=True,
                        title=f"At rest: settlement {marks.total_settlement(disc):.3f} m "
-                             f"({settlement():.3f} m since handover), "
+                             f"({settlement:.3f} m since handover), "
                              f"{int((~disc.interface_intact).sum())} failed interfaces")
     return summary
 

@@ -10,16 +10,88 @@ at the start and at chosen times. What the run measures is left to the caller
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-from dataclasses import dataclass
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
 from pathlib import Path
+
+import numpy as np
 
 from hybrid.discrete.figures import Snapshots, plot_configuration
 from hybrid.discrete.outputs import frame_interval, standard_outputs
 from hybrid.discrete.solver import ExplicitSolver, RunOptions, RunResult
 from hybrid.discrete.state import DiscreteState
 
-__all__ = ["RestRun", "require_serial", "run_to_rest"]
+__all__ = ["LoadProgram", "RestRun", "require_serial", "run_to_rest"]
+
+_LOADING, _UNLOADING, _REMOVED = 0, 1, 2  # the phases of a LoadProgram
+
+
+@dataclass
+class LoadProgram:
+    """A load raised, held until a displacement is reached, then removed: a run's ``on_check``.
+
+    From ``t_start`` [s] the load value goes linearly from ``start`` to ``peak`` over
+    ``ramp_time`` [s] and is held; when ``measure()`` reaches ``target`` (or after
+    ``max_time`` [s] of loading) it falls linearly to 0 over ``ramp_time``. ``apply(value)``
+    sets the load (e.g. a handover's ``set_load_factor`` scaled to a pressure). Called at
+    every check, it returns True once the load is removed (the run stops there). Its progress
+    is saved in checkpoints (``state``/``restore``), so a resumed run continues it.
+
+    ``curve`` holds (measure, load) at every check; ``t_unload`` the time of the unloading
+    (from ``t_start``) and ``at_unloading`` the measure then (None before).
+    """
+
+    apply: Callable[[float], None]
+    measure: Callable[[], float]
+    start: float
+    peak: float
+    target: float
+    ramp_time: float  # [s]
+    max_time: float  # [s]
+    t_start: float  # [s]
+    phase: int = _LOADING
+    t_unload: float | None = None
+    at_unloading: float | None = None
+    curve: list[tuple[float, float]] = field(default_factory=list)
+
+    def __call__(self, state: DiscreteState) -> bool:
+        """Set the load for the state's time; True once it is removed."""
+        t = state.time - self.t_start
+        if self.phase == _LOADING:
+            value = self.start + (self.peak - self.start) * min(t / self.ramp_time, 1.0)
+            if self.measure() >= self.target or t >= self.max_time:
+                self.phase, self.t_unload, self.at_unloading = _UNLOADING, t, self.measure()
+        if self.phase == _UNLOADING:
+            assert self.t_unload is not None
+            value = self.peak * max(1.0 - (t - self.t_unload) / self.ramp_time, 0.0)
+            if value == 0.0:
+                self.phase = _REMOVED
+        if self.phase == _REMOVED:
+            value = 0.0
+        self.apply(value)
+        self.curve.append((self.measure(), value))
+        return self.phase == _REMOVED
+
+    @property
+    def removed(self) -> bool:
+        """True once the load has been removed."""
+        return self.phase == _REMOVED
+
+    def state(self) -> dict[str, np.ndarray]:
+        """The program's progress as arrays (for checkpoints)."""
+        nan = float("nan")
+        return {"phase": np.array(self.phase),
+                "unload": np.array([nan if self.t_unload is None else self.t_unload,
+                                    nan if self.at_unloading is None else self.at_unloading]),
+                "curve": np.array(self.curve, dtype=float).reshape(-1, 2)}
+
+    def restore(self, saved: dict[str, np.ndarray]) -> None:
+        """Continue from :meth:`state`."""
+        self.phase = int(saved["phase"])
+        t_unload, at = (float(v) for v in saved["unload"])
+        self.t_unload = None if np.isnan(t_unload) else t_unload
+        self.at_unloading = None if np.isnan(at) else at
+        self.curve = [(float(a), float(b)) for a, b in saved["curve"]]
 
 
 @dataclass

@@ -184,6 +184,7 @@ class _Progress:
     peak_ke: float = 0.0  # peak kinetic energy of the run (rest detection) [kJ/m]
     hist: dict[str, list[float]] = field(
         default_factory=lambda: {k: [] for k in HISTORY_KEYS})
+    callback: dict[str, np.ndarray] = field(default_factory=dict)  # on_check's, when resumed
 
     def arrays(self, prefix: str) -> dict[str, np.ndarray]:
         """The progress as named arrays (no pickle)."""
@@ -210,7 +211,30 @@ class _Progress:
                    led0=led0, monitor=monitor, split0=split0, k=k,
                    peak_ke=float(a[f"{prefix}peak_ke"]),
                    hist={key: [float(v) for v in a[f"{prefix}hist.{key}"]]
-                         for key in HISTORY_KEYS})
+                         for key in HISTORY_KEYS},
+                   callback=_prefixed(a, f"{prefix}on_check."))
+
+
+def _prefixed(arrays: dict[str, np.ndarray], prefix: str) -> dict[str, np.ndarray]:
+    """The entries of ``arrays`` under ``prefix``, the prefix removed."""
+    return {k[len(prefix):]: v for k, v in arrays.items() if k.startswith(prefix)}
+
+
+def _callback_state(on_check: Any) -> dict[str, np.ndarray]:
+    """The state of a stateful ``on_check`` (one with ``state()``/``restore()``), else {}."""
+    state = getattr(on_check, "state", None)
+    return {k: np.asarray(v) for k, v in state().items()} if callable(state) else {}
+
+
+def _restore_callback(on_check: Any, saved: dict[str, np.ndarray]) -> None:
+    """Give a resumed run's ``on_check`` the state it had in the checkpoint."""
+    if not saved:
+        return
+    restore = getattr(on_check, "restore", None)
+    if not callable(restore):
+        raise ValueError("the checkpoint holds the state of this run's on_check: pass an "
+                         "on_check with state()/restore() (as the interrupted script did)")
+    restore(saved)
 
 
 class Observer:
@@ -318,6 +342,11 @@ class ExplicitSolver:
         self._closed = False
         self._done: list[tuple[str, RunResult]] = []  # runs that ended: (call, result)
         self._replay: list[tuple[str, RunResult]] = []  # of a checkpoint, not yet called again
+        # the state of each ended run's on_check at its end (stateful callbacks only), the
+        # same of the checkpoint's runs not yet called again, and the running one's on_check
+        self._done_callbacks: list[dict[str, np.ndarray]] = []
+        self._replay_callbacks: list[dict[str, np.ndarray]] = []
+        self._on_check: Any = None
         self._run: _Progress | None = None  # the run in progress
         self._resumed: _Progress | None = None  # of a checkpoint, to continue
         # work arrays of the step, reused: contact force, its damping and tangential parts and
@@ -455,7 +484,10 @@ class ExplicitSolver:
         if self._replay:  # a run that had ended before the checkpoint
             saved_call, result = self._replay.pop(0)
             self._check_call(saved_call, call)
+            saved = self._replay_callbacks.pop(0)
+            _restore_callback(on_check, saved)
             self._done.append((saved_call, result))
+            self._done_callbacks.append(saved)
             return result
         st, dt = self.state, self.dt
         fault = _input_fault(st)
@@ -469,6 +501,7 @@ class ExplicitSolver:
         if r is not None:  # the run the checkpoint was taken in
             self._resumed = None
             self._check_call(r.call, call)
+            _restore_callback(on_check, r.callback)
             self._external = r.external
         else:
             n_total = max_steps if max_steps is not None else None
@@ -481,6 +514,7 @@ class ExplicitSolver:
                           split0=self.n_split,
                           peak_ke=led0.kinetic)
         self._run = r
+        self._on_check = on_check
         n_total, monitor, hist, led0 = r.n_total, r.monitor, r.hist, r.led0
         stop = "steps"
         observers = self.observers
@@ -519,6 +553,7 @@ class ExplicitSolver:
                     obs.stepped(self)
         except BaseException:
             self._run = None
+            self._on_check = None
             for obs in observers:
                 obs.run_ended(self, None)
             raise
@@ -536,6 +571,8 @@ class ExplicitSolver:
                            history={kk: np.asarray(v) for kk, v in hist.items()}, phase=r.phase)
         self._run = None
         self._done.append((call, result))
+        self._done_callbacks.append(_callback_state(on_check))
+        self._on_check = None
         for obs in observers:
             obs.run_ended(self, result)
         return result
@@ -567,8 +604,11 @@ class ExplicitSolver:
             out[p + "numbers"] = np.array([float(getattr(res, n)) for n in _RESULT_NUMBERS])
             out.update({f"{p}hist.{k}": np.asarray(v, dtype=float)
                         for k, v in res.history.items()})
+            out.update({f"{p}on_check.{k}": v for k, v in self._done_callbacks[i].items()})
         if self._run is not None:
             out.update(self._run.arrays("solver.run."))
+            out.update({f"solver.run.on_check.{k}": v
+                        for k, v in _callback_state(self._on_check).items()})
         for i, obs in enumerate(self.observers):
             out.update({f"solver.obs{i}.{k}": np.asarray(v) for k, v in obs.state().items()})
         return out
@@ -614,7 +654,10 @@ class ExplicitSolver:
                             phase=str(extra[p + "phase"]))
             done.append((str(extra[p + "call"]), res))
         self._replay = done
+        self._replay_callbacks = [_prefixed(extra, f"solver.done{i}.on_check.")
+                                  for i in range(n_done)]
         self._done = []
+        self._done_callbacks = []
         self._resumed = (_Progress.from_arrays(extra, "solver.run.", st, self.dt,
                                                  self.contact)
                          if "solver.run.numbers" in extra else None)

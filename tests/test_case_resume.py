@@ -1,0 +1,71 @@
+"""A case killed mid-run continues with ``hybrid run --resume`` to the uninterrupted answer.
+
+H2 on a coarse mesh writes checkpoints; a copy of the run is killed (SIGKILL: no clean-up)
+while its discrete phase runs, then resumed into the same folder. The summary's discrete
+figures (rest time, steps, settlements, heave, failed interfaces, energy ratios) and the last
+frame of the series equal those of the uninterrupted run bit for bit: the loading program's
+progress (``LoadProgram``), rest detection and monitors travel in the checkpoint.
+"""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import meshio
+import numpy as np
+import pytest
+from conftest import ROOT
+
+COARSE = ["--set", "fine=0.15", "--set", "coarse=0.6", "--set", "continuum_steps=12",
+          "--set", "output_every=500", "--set", "checkpoint_every=500",
+          "--set", "progress=False"]
+TIMING = {"wall_time_s", "element_steps_per_s", "outputs"}
+
+
+def _hybrid(out, *extra) -> list[str]:
+    return [sys.executable, "-m", "hybrid", "run", str(ROOT / "cases" / "footing_failure.py"),
+            "--out", str(out), *COARSE, *extra]
+
+
+def _env() -> dict[str, str]:
+    return {**os.environ, "NUMBA_NUM_THREADS": "1", "MPLBACKEND": "Agg"}
+
+
+def _last_frame(out):
+    reader = meshio.xdmf.TimeSeriesReader(out / "discrete" / "discrete.xdmf")
+    points, _ = reader.read_points_cells()
+    t, point_data, cell_data = reader.read_data(reader.num_steps - 1)
+    return t, point_data["displacement"], cell_data["sigma_yy"][0]
+
+
+@pytest.mark.slow
+def test_h2_killed_mid_run_resumes_to_the_uninterrupted_answer(tmp_path):
+    ref, cut = tmp_path / "ref", tmp_path / "cut"
+    subprocess.run(_hybrid(ref), check=True, env=_env(), capture_output=True, cwd=ROOT)
+    proc = subprocess.Popen(_hybrid(cut), env=_env(), cwd=ROOT, stdout=subprocess.DEVNULL,
+                            stderr=subprocess.DEVNULL)
+    checkpoint = cut / "discrete" / "checkpoint.prev.npz"  # the second checkpoint is written
+    deadline = time.monotonic() + 300
+    while not checkpoint.exists() and proc.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.05)
+    os.kill(proc.pid, signal.SIGKILL)
+    proc.wait()
+    assert checkpoint.exists() and not (cut / "summary.json").exists()  # killed mid-run
+
+    # the frames written before the kill: a resumed run keeps them, a fresh start would not
+    before = {f: f.stat().st_mtime_ns for f in (cut / "discrete" / "discrete_series").iterdir()}
+    assert before
+    again = subprocess.run(_hybrid(cut), env=_env(), cwd=ROOT, capture_output=True, text=True)
+    assert again.returncode == 2 and "not empty" in again.stderr  # no silent overwrite
+    subprocess.run(_hybrid(cut, "--resume"), check=True, env=_env(), capture_output=True,
+                   cwd=ROOT)
+    assert all(f.stat().st_mtime_ns == t for f, t in before.items())
+    a = json.loads((ref / "summary.json").read_text())["discrete"]
+    b = json.loads((cut / "summary.json").read_text())["discrete"]
+    assert {k: v for k, v in a.items() if k not in TIMING} == \
+        {k: v for k, v in b.items() if k not in TIMING}
+    for x, y in zip(_last_frame(ref), _last_frame(cut), strict=True):
+        np.testing.assert_array_equal(x, y)
