@@ -69,3 +69,40 @@ def test_h2_killed_mid_run_resumes_to_the_uninterrupted_answer(tmp_path):
         {k: v for k, v in b.items() if k not in TIMING}
     for x, y in zip(_last_frame(ref), _last_frame(cut), strict=True):
         np.testing.assert_array_equal(x, y)
+
+
+def test_load_program_ramps_holds_removes_and_restores_its_progress():
+    """LoadProgram: 100 -> 300 over 0.1 s, held until the measure reaches 1, removed over
+    0.1 s (exact values at the checks); its state() restored into a fresh program continues
+    identically."""
+    from types import SimpleNamespace
+
+    from hybrid.discrete.runs import LoadProgram
+
+    applied, reach = [], {"now": 0.0}
+
+    def program() -> LoadProgram:
+        return LoadProgram(apply=applied.append, measure=lambda: reach["now"], start=100.0,
+                           peak=300.0, target=1.0, ramp_time=0.1, max_time=10.0, t_start=1.0)
+
+    a = program()
+    assert not a(SimpleNamespace(time=1.05)) and applied[-1] == pytest.approx(200.0)
+    reach["now"] = 1.0
+    assert not a(SimpleNamespace(time=1.2))  # target reached: unloading starts at t = 0.2 s
+    assert applied[-1] == pytest.approx(300.0) and a.t_unload == pytest.approx(0.2)
+    b = program()
+    b.restore(a.state())
+    for p in (a, b):
+        assert not p(SimpleNamespace(time=1.25))
+        assert applied[-1] == pytest.approx(150.0)
+        assert p(SimpleNamespace(time=1.31)) and applied[-1] == 0.0 and p.removed
+    assert a.curve == b.curve and a.at_unloading == b.at_unloading == 1.0
+
+
+def test_a_checkpointed_callback_state_needs_a_stateful_on_check():
+    """A checkpoint that holds an on_check's progress refuses a plain function in its place."""
+    from hybrid.discrete.solver import _restore_callback
+
+    with pytest.raises(ValueError, match="pass an on_check with state"):
+        _restore_callback(lambda s: False, {"phase": np.array(1)})
+    _restore_callback(lambda s: False, {})  # nothing saved: any on_check
