@@ -71,6 +71,32 @@ def test_h2_killed_mid_run_resumes_to_the_uninterrupted_answer(tmp_path):
         np.testing.assert_array_equal(x, y)
 
 
+@pytest.mark.slow
+def test_sigterm_stops_a_case_as_ctrl_c_does(tmp_path):
+    """SIGTERM (a batch system's time limit) during the discrete phase: exit code 130 with a
+    one-line message naming --resume, every frame written so far readable, and the run then
+    resumes to completion."""
+    out = tmp_path / "h2"
+    proc = subprocess.Popen(_hybrid(out), env=_env(), cwd=ROOT, stdout=subprocess.DEVNULL,
+                            stderr=subprocess.PIPE, text=True)
+    checkpoint = out / "discrete" / "checkpoint.prev.npz"
+    deadline = time.monotonic() + 300
+    while not checkpoint.exists() and proc.poll() is None and time.monotonic() < deadline:
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGTERM)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130, err
+    assert "interrupted" in err and "--resume" in err and "Traceback" not in err
+    reader = meshio.xdmf.TimeSeriesReader(out / "discrete" / "discrete.xdmf")
+    reader.read_points_cells()
+    assert reader.num_steps >= 1
+    for k in range(reader.num_steps):
+        reader.read_data(k)
+    subprocess.run(_hybrid(out, "--resume"), check=True, env=_env(), capture_output=True,
+                   cwd=ROOT)
+    assert json.loads((out / "summary.json").read_text())["discrete"]["stop"] == "rest"
+
+
 def test_load_program_ramps_holds_removes_and_restores_its_progress():
     """LoadProgram: 100 -> 300 over 0.1 s, held until the measure reaches 1, removed over
     0.1 s (exact values at the checks); its state() restored into a fresh program continues
