@@ -57,15 +57,19 @@ test-slow: setup
 verify: setup
 	$(PY) -m hybrid verify --full --update-docs
 
-# the hybrid cases behind docs/hybrid.md: their summaries (docs/summaries/, every figure the
+# the hybrid cases behind docs/hybrid.md and docs/carsington.md: their summaries (docs/summaries/, every figure the
 # docs quote; tests/test_docs_numbers.py checks the quotes) and figures (docs/figures/hybrid/)
 DOCS_RUN := results/docs
 docs: setup
 	$(PY) -m hybrid run cases/footing_failure.py --out $(DOCS_RUN)/h2 --set progress=false
 	$(PY) -m hybrid run cases/retaining_wall_collapse.py --out $(DOCS_RUN)/h3 --set progress=false
 	$(PY) -m hybrid run cases/toppling.py --out $(DOCS_RUN)/d10 --set progress=false
-	mkdir -p docs/summaries docs/figures/hybrid
-	for c in h2 h3 d10; do cp $(DOCS_RUN)/$$c/summary.json docs/summaries/$$c.json; done
+	$(PY) -m hybrid run cases/carsington.py --out $(DOCS_RUN)/carsington --set progress=false
+	mkdir -p docs/summaries docs/figures/hybrid docs/figures/carsington
+	for c in h2 h3 d10 carsington; do cp $(DOCS_RUN)/$$c/summary.json docs/summaries/$$c.json; done
+	for f in end_of_construction_yielded end_of_construction_sigma_yy \
+	    end_of_construction_sigma_xx core_displacement_vs_fill_level discrete_final; do \
+	    cp $(DOCS_RUN)/carsington/$$f.png docs/figures/carsington/$$f.png; done
 	cp $(DOCS_RUN)/h2/load_settlement.png docs/figures/hybrid/h2_load_settlement.png
 	cp $(DOCS_RUN)/h2/final.png docs/figures/hybrid/h2_final.png
 	cp $(DOCS_RUN)/h2/handover_plastic_strain.png docs/figures/hybrid/h2_handover_plastic_strain.png

@@ -23,7 +23,8 @@ if TYPE_CHECKING:
     from hybrid.continuum.state import ContinuumState
     from hybrid.references import SlipCircle
 
-__all__ = ["Column", "window_overlay", "construction_figures", "plot_displacement_vectors",
+__all__ = ["Column", "Band", "plot_level_history", "window_overlay", "construction_figures",
+           "plot_displacement_vectors",
            "plot_column_profiles", "safety_figures", "staged_figures"]
 
 Window = Box
@@ -44,6 +45,54 @@ class Column(NamedTuple):
     levels: Sequence[float] = ()
     line: str = ""
     name: str = "column"
+
+
+class Band(NamedTuple):
+    """A published value drawn beside a computed history.
+
+    ``low`` to ``high`` (in the plotted unit) at the levels ``level_low`` to ``level_high``.
+    """
+
+    label: str
+    low: float
+    high: float
+    level_low: float
+    level_high: float
+
+
+def plot_level_history(path: str | Path, levels: Sequence[float], values: Sequence[float], *,
+                       bands: Sequence[Band] = (), label: str = "this analysis",
+                       xlabel: str = "", ylabel: str = "level [m]",
+                       title: str = "") -> Path | None:
+    """A quantity (x) against the level reached (y), with published ``bands`` as boxes.
+
+    Writes from rank 0 only (None elsewhere).
+    """
+    from mpi4py import MPI
+
+    if MPI.COMM_WORLD.rank != 0:
+        return None
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6.5, 5), dpi=120)
+    colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]
+    for k, b in enumerate(bands):
+        c = colours[(k + 1) % len(colours)]
+        dy = max(b.level_high - b.level_low, 0.2)
+        ax.add_patch(matplotlib.patches.Rectangle(
+            (b.low, 0.5 * (b.level_low + b.level_high) - 0.5 * dy), max(b.high - b.low, 4.0),
+            dy, facecolor=c, alpha=0.35, edgecolor=c, label=b.label))
+    ax.plot(values, levels, "ko-", ms=4, label=label)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title, fontsize=10)
+    ax.grid(alpha=0.3)
+    ax.autoscale_view()
+    ax.legend(fontsize=7, loc="upper left")
+    return save_figure(fig, path)
 
 
 def window_overlay(window: Window) -> Callable[[Any], None]:

@@ -101,6 +101,14 @@ class MeshData:
         dofs[area < 0] = dofs[area < 0, ::-1]
         return x, dofs
 
+    def group_area(self, name: str) -> float:
+        """Area of the named cell group [m2] (straight-sided cells; summed over MPI ranks)."""
+        x, cells = self.cell_vertices()
+        p = x[cells[self.cells(name)]]
+        area = 0.5 * float(np.sum(p[:, :, 0] * np.roll(p[:, :, 1], -1, axis=1)
+                                  - np.roll(p[:, :, 0], -1, axis=1) * p[:, :, 1]))
+        return float(self.comm.allreduce(area))
+
     @property
     def is_quad(self) -> bool:
         """True for a quadrilateral mesh, False for triangles."""

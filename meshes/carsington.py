@@ -32,24 +32,32 @@ class Section:
     Attributes:
         crest_level: design crest [m OD] (thesis, EA: 200.5).
         foundation_level: general foundation level at the axis and downstream [m OD]
-            (assumed: crest - 36 m, the slipped section being ~35-37 m high).
+            (crest - 36 m: the thesis gives a design height of 35 m (6.1) and an embankment
+            "to be 37 m in height" (6.2.4)).
         crest_width: [m] (assumed, 8-10 m suggested).
-        upstream_slope, downstream_slope: horizontal per vertical (1:3, 1:2.5 published).
+        upstream_slope, downstream_slope: horizontal per vertical (1:3, 1:2.5: thesis 6.2.2).
         core_top_width: core width at the crest [m] (assumed).
         core_batter: core side batter, horizontal per vertical (assumed 0.25).
-        trench_depth: key trench below the foundation level [m] (published: 3 m).
+        trench_depth: key trench below the foundation level [m] (3 m: thesis 6.2.2).
         boot_length: upstream end of the boot, distance from the axis [m] (assumed).
         boot_height: top of the boot above the foundation level [m] (assumed; the boot is
             trench_depth + boot_height thick).
         zone_I_slope: outer face of Zone I, horizontal per vertical (assumed 1:1).
-        berm_top: top of the upstream berm [m OD] (published: 175.6).
-        berm_height: [m] (published: 6 m); the ground under the berm is berm_top - berm_height.
+        berm_top: top of the upstream berm [m OD] (175.6: thesis 6.2.2).
+        berm_height: [m] (6 m: thesis 6.2.2); the ground under the berm is berm_top - berm_height.
         berm_width: top width [m] (assumed), berm_slope: its outer face (assumed 1:2.5).
         yellow_clay_thickness: [m] (published 1-2 m; assumed 1.5).
-        yellow_clay_beyond_toe: how far the layer runs upstream of the berm toe [m] (assumed).
+        yellow_clay_length: horizontal length of the layer from the boot's upstream end [m]
+            (36: the thesis's 18 yellow-clay elements in one row, each as wide as its core
+            elements, about 2 m: core area / 182 elements = 4.2 m2; None: to
+            ``yellow_clay_beyond_toe`` beyond the berm toe, the least favourable reading of
+            "extensive").
+        yellow_clay_beyond_toe: with ``yellow_clay_length`` None, how far the layer runs
+            upstream of the berm toe [m] (assumed).
         foundation_depth: base of the model below the foundation level [m] (assumed).
         margin: foundation modelled beyond each toe [m] (assumed: about one base width).
-        lifts: construction stages (thesis: 6).
+        lifts: construction lifts after the foundation's stage (thesis: six stages, the
+            foundation and five lifts; :func:`lift_tops`).
     """
 
     crest_level: float = 200.5
@@ -68,10 +76,11 @@ class Section:
     berm_width: float = 12.0
     berm_slope: float = 2.5
     yellow_clay_thickness: float = 1.5
+    yellow_clay_length: float | None = 36.0
     yellow_clay_beyond_toe: float = 30.0
     foundation_depth: float = 40.0
     margin: float = 200.0
-    lifts: int = 6
+    lifts: int = 5
 
     def __post_init__(self) -> None:
         if not self.foundation_level < self.berm_top - self.berm_height < self.berm_top \
@@ -142,16 +151,31 @@ class Section:
                 (x_down, self.foundation_level), (half, yc)]
 
 
+# fill levels reached in the construction history (thesis 6.2.2): end of 1982 (Elv. 182 at
+# Ch. 650-1000), July 1983 (Elv. 190, when the berm was ordered), and the level the thesis
+# reports a core displacement at (198 m OD, 6.3.1.2; filling stopped at about Elv. 197 in
+# September 1983)
+HISTORY_LEVELS = (182.0, 190.0, 198.0)
+
+
 def lift_tops(crest_level: float = 200.5, berm_top: float = 175.6,
-              lifts: int = 6) -> list[float]:
+              lifts: int = 5) -> list[float]:
     """Top elevation of each construction lift [m OD].
 
-    Assumption: the first lift brings the fill to the berm top (the berm, built in 1983, is
-    complete in stage 1, so no lift boundary cuts it); the rest rises in equal lifts to the
-    design crest.
+    The thesis's six stages are the foundation and five lifts (6.3.1.1). Five lifts (the
+    default): the berm top, :data:`HISTORY_LEVELS`, the crest; the first lift brings the
+    fill to the berm top with the berm (an assumption: the berm was built in 1983, with the
+    fill at 190 m OD; stage 1 keeps it whole). Any other number: the first lift to the berm
+    top, then equal lifts to the crest.
     """
     if lifts == 1:
         return [crest_level]
+    if lifts == 1 + len(HISTORY_LEVELS) + 1:
+        if not berm_top < HISTORY_LEVELS[0] and HISTORY_LEVELS[-1] < crest_level:
+            raise ValueError(f"5 lifts use the history levels {HISTORY_LEVELS} m OD: the berm "
+                             "top must be below and the crest above them (or give another "
+                             "number of lifts)")
+        return [berm_top, *HISTORY_LEVELS, crest_level]
     dh = (crest_level - berm_top) / (lifts - 1)
     return [berm_top + k * dh for k in range(lifts - 1)] + [crest_level]
 
@@ -171,15 +195,18 @@ def _outlines(s: Section) -> dict[str, list[tuple[float, float]]]:
     x_boot = -s.boot_length
     x_berm_in = -hw - s.upstream_slope * (yc - s.berm_top)
     t = s.yellow_clay_thickness
-    x_yc = s.berm_toe - s.yellow_clay_beyond_toe
+    if s.yellow_clay_length is None:
+        x_yc = s.berm_toe - s.yellow_clay_beyond_toe
+    else:
+        x_yc = x_boot - s.yellow_clay_length
     # the ground profile, downstream to upstream
     ground = [(xr, yf), (s.downstream_toe, yf), (x_boot, yf), (xk, yk), (s.berm_toe, yk),
               (xl, yk)]
-    if x_yc > xl:
-        ground.insert(-1, (x_yc, yk))
+    x_yc = max(x_yc, xl)
+    yc_top = [(x_boot, yf)] + [(x, y) for x, y in ground[3:] if x > x_yc] \
+        + [(x_yc, s.ground(x_yc))]
     deep = yc - 2.0 * s.height  # the wedge reaches below the ground; cut to the shoulders
     wedge_dx = s.zone_I_slope * (yc - deep)
-    yc_top = [(x_boot, yf), (xk, yk), (max(x_yc, xl), yk)]
     return {
         "foundation": [(xl, yb), (xr, yb), *ground],
         "yellow_clay": yc_top + [(x, y - t) for x, y in reversed(yc_top)],

@@ -38,6 +38,14 @@ def d10() -> dict[str, Any]:
     return _json("docs/summaries/d10.json")
 
 
+def carsington() -> dict[str, Any]:
+    return _json("docs/summaries/carsington.json")
+
+
+def _cars_stage(lift: int) -> dict[str, Any]:
+    return carsington()["construction"]["stages"][lift - 1]
+
+
 def verify(case: str) -> dict[str, Any]:
     """The case's entry of the committed verification results, rows by name."""
     (entry,) = [c for c in _json("docs/verification/results.json")["cases"] if c["id"] == case]
@@ -79,6 +87,21 @@ QUOTES: list[Quote] = [
     ("docs/hybrid.md", "ratio zeta; {} in H2 and H3",
      lambda: [h2()["parameters"]["contact_damping"]] * (
          h2()["parameters"]["contact_damping"] == h3()["parameters"]["contact_damping"])),
+    # --- docs/carsington.md ----------------------------------------------------------------
+    ("docs/carsington.md", "| 6 (default) | {} | default",
+     lambda: [carsington()["mesh"]["cells"]]),
+    ("docs/carsington.md", "**The section carries the fill to {} m OD and collapses in the last "
+     "lift** ({} % of its weight carried;",
+     lambda: [carsington()["construction"]["fill_level_m_od"],
+              100 * carsington()["construction"]["collapsing_lift"]["weight_carried"]]),
+    ("docs/carsington.md", "| core at node A, 198 m OD | about 150 mm | {} mm ({} mm at 190 m OD)",
+     lambda: [carsington()["core_displacement_mm"]["198"], _cars_stage(3)["node_A_dx_mm"]]),
+    ("docs/carsington.md", "| upstream toe movement | not measured | {} m |",
+     lambda: [carsington()["discrete"]["toe_runout_m"]]),
+    ("docs/carsington.md", "| crest drop | not measured | {} m |",
+     lambda: [carsington()["discrete"]["crest_drop_m"]]),
+    ("docs/carsington.md", "F after lift 4 is {}:",
+     lambda: [_cars_stage(4)["factor_of_safety"]]),
     # --- docs/hybrid.md: H2 -----------------------------------------------------------------
     ("docs/hybrid.md", "B = {} m strip (half model {} m x {} m, {} Q4 / Q2 cells, {} m at the "
      "footing edge), c = {} kPa, phi = {} deg, psi = {}, gamma = {} kN/m3 (assumed), E = {} MPa, "

@@ -128,7 +128,7 @@ def test_load_mesh_script(tmp_path):
     """A gmsh script loads whole (its builder and what else it defines) or names the file."""
     meshes = Path(__file__).resolve().parent.parent / "meshes"
     section = load_mesh_script(meshes / "carsington.py")
-    assert callable(section.build) and section.Section().lifts == 6
+    assert callable(section.build) and section.Section().lifts == 5
     assert load_builder(meshes / "carsington.py").__name__ == "build"
     with pytest.raises(GeometryError, match="not found"):
         load_mesh_script(tmp_path / "missing.py")

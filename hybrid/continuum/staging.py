@@ -12,7 +12,7 @@ lift's nodes start at zero while the nodes at its base have already moved).
 from __future__ import annotations
 
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -124,7 +124,9 @@ class Construction:
 
 def build_in_lifts(solver: PlasticSolver, mesh: MeshData, tops: Sequence[float],
                    base_level: float, *, steps: int = 1, safety: StrengthSearch | None = None,
-                   safety_every_lift: bool = True, unit: str = "m") -> Construction:
+                   safety_every_lift: bool = True, unit: str = "m",
+                   monitor: Callable[[PlasticSolver], dict[str, Any]] | None = None
+                   ) -> Construction:
     """Place the lifts of a :func:`split_into_lifts` ``mesh`` one by one.
 
     Each lift is placed with ``activate`` (its weight in ``steps`` increments), up to the last
@@ -137,7 +139,9 @@ def build_in_lifts(solver: PlasticSolver, mesh: MeshData, tops: Sequence[float],
     fraction of the lift reaches, from ``base_level`` below the first lift),
     "newton_iterations", "step_cuts", "wall_time_s", "yielded_cells", "max_displacement_m"
     (all ranks) and, with ``safety``, "factor_of_safety", "fos_wall_time_s"; ``unit`` names
-    the elevations' unit in the keys (e.g. "m_OD").
+    the elevations' unit in the keys (e.g. "m_OD"). ``monitor``: called after every complete
+    lift (before the factor of safety); its items are added to that lift's record (nothing
+    is recorded from a lift that did not carry its full weight).
     """
     comm, lifts = mesh.comm, len(tops)
     if lifts == 0:
@@ -171,6 +175,8 @@ def build_in_lifts(solver: PlasticSolver, mesh: MeshData, tops: Sequence[float],
         stage["max_displacement_m"] = largest_nodal_norm(solver.u.x.array, comm)
         if not analysis.completed:
             break
+        if monitor is not None:
+            stage.update(monitor(solver))
         if safety is not None and (safety_every_lift or k == lifts):
             t0 = time.perf_counter()
             snap = solver.snapshot()

@@ -7,9 +7,12 @@ supply has bounded energy (dissipation takes the difference).
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
-__all__ = ["mechanical_energy", "energy_excess", "energy_peak_ratio", "LABELS", "DISSIPATION"]
+__all__ = ["mechanical_energy", "energy_excess", "energy_peak_ratio", "conservation_checks",
+           "LABELS", "DISSIPATION"]
 
 #: plot labels of the ledger terms
 LABELS = {"kinetic": "kinetic", "strain": "strain", "contact_elastic": "contact (elastic)",
@@ -38,3 +41,18 @@ def energy_peak_ratio(h: dict) -> float:
     e, supply = mechanical_energy(h)
     ok = np.abs(supply) > 1e-12 * float(np.max(np.abs(supply)))
     return float(np.max(e[ok] / supply[ok])) if ok.any() else 0.0
+
+
+def conservation_checks(h: dict, state: Any, n_elements: int, mass: float) -> dict[str, Any]:
+    """The standard checks of a discrete run (:class:`~hybrid.io.Check`).
+
+    Energy never above its sources (1 %), the ``n_elements`` elements and the ``mass`` [t/m]
+    of the start kept.
+    """
+    from hybrid.io import Check
+
+    return {
+        "energy_excess_over_sources": Check(energy_excess(h), 0.0, 0.01, "-",
+                                            "E_kin + E_strain + E_contact <= E(0) + work"),
+        "elements_conserved": Check(float(state.n_elements), float(n_elements), 0.0),
+        "mass_conserved": Check(float(state.mass.sum()), mass, 1e-12, "t/m")}
