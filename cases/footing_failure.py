@@ -37,7 +37,7 @@ from pathlib import Path
 import numpy as np
 
 from hybrid.continuum import PlasticSolver
-from hybrid.discrete.energy import energy_excess, energy_peak_ratio
+from hybrid.discrete.energy import energy_excess, energy_peak_ratio, phase_history
 from hybrid.discrete.figures import plot_configuration
 from hybrid.discrete.measures import FootingMarks
 from hybrid.discrete.outputs import standard_outputs
@@ -229,8 +229,11 @@ def main(out: str | Path = "results/footing_failure", **overrides) -> CaseSummar
     plot_load_settlement(out / "load_settlement.png", sc, qc, estimates, label="continuum",
                          more={"discrete (applied pressure)": (marks.offset + sd, qd)},
                          title="H2: footing load-settlement (settlement from the start)")
-    plot_energy(out / "energy_loaded.png", loaded.history)
-    plot_energy(out / "energy_rest.png", h)
+    # the whole discrete phase, loading and rest, as one ledger history
+    when = {"unloading starts": t_start + phase["t_unload"]} if phase["t_unload"] else {}
+    plot_energy(out / "energy.png", phase_history([r.history for r in solver.results]),
+                marks={**when, "rest run starts": loaded.time},
+                title="H2: energy of the discrete phase (loading, unloading, rest)")
     plot_configuration(out / "final.png", disc, window=window, outline=True,
                        title=f"At rest: settlement {marks.total_settlement(disc):.3f} m "
                              f"({settlement():.3f} m since handover), "

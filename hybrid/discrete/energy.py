@@ -7,9 +7,13 @@ supply has bounded energy (dissipation takes the difference).
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
+from typing import Any
+
 import numpy as np
 
-__all__ = ["mechanical_energy", "energy_excess", "energy_peak_ratio", "LABELS", "DISSIPATION"]
+__all__ = ["mechanical_energy", "energy_excess", "energy_peak_ratio", "phase_history",
+           "LABELS", "DISSIPATION"]
 
 #: plot labels of the ledger terms
 LABELS = {"kinetic": "kinetic", "strain": "strain", "contact_elastic": "contact (elastic)",
@@ -38,3 +42,25 @@ def energy_peak_ratio(h: dict) -> float:
     e, supply = mechanical_energy(h)
     ok = np.abs(supply) > 1e-12 * float(np.max(np.abs(supply)))
     return float(np.max(e[ok] / supply[ok])) if ok.any() else 0.0
+
+
+def phase_history(histories: Sequence[Mapping[str, Any]]) -> dict[str, np.ndarray]:
+    """The histories of consecutive runs of one solver as one history of the phase.
+
+    ``histories``: ``RunResult.history`` of each run in order (e.g. of
+    ``ExplicitSolver.results``: loading, then rest). The ledger's terms are totals since the
+    state was made and carry over from run to run; the residual of each run counts from its
+    start, so the residual at the end of the runs before is added to it: the residual of the
+    phase counts from the start of the first run.
+    """
+    if not histories:
+        raise ValueError("phase_history: give the history of one run at least")
+    out: dict[str, list[np.ndarray]] = {key: [] for key in histories[0]}
+    offset = 0.0
+    for h in histories:
+        for key in out:
+            values = np.asarray(h[key], dtype=float)
+            out[key].append(values + offset if key == "residual" else values)
+        if len(h["residual"]):
+            offset += float(np.asarray(h["residual"])[-1])
+    return {key: np.concatenate(parts) for key, parts in out.items()}
