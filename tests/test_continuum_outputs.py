@@ -7,9 +7,17 @@ import pytest
 from hybrid.continuum import PlasticSolver
 from hybrid.continuum.series import CELL_FIELDS, ContinuumSeries
 from hybrid.continuum.strength_reduction import StrengthSearch, factor_of_safety
+from hybrid.figures import (
+    MOHR_COULOMB,
+    TENSION_CUTOFF,
+    _nice_scale,
+    engineering_figures,
+    plastic_points,
+    shear_strain,
+)
 from hybrid.geometry import build_mesh
 from hybrid.materials import Material
-from hybrid.model import Fixed, Model, Pressure, Roller
+from hybrid.model import Displacement, Fixed, Model, Pressure, Roller
 
 SMOOTH_BOX = [Roller("base", "y"), Roller("left", "x")]
 
@@ -97,3 +105,53 @@ def test_a_time_function_needs_its_meaning(builder, tmp_path):
     with pytest.raises(ValueError, match="every = 0"):
         ContinuumSeries(tmp_path / "a.xdmf", solver, every=0)
     assert solver.observers == []
+
+
+def _block_moved(builder, uy: float, **strength) -> PlasticSolver:
+    """The 1 m block with its top moved by ``uy`` [m] in one step (smooth box, free right)."""
+    mesh = build_mesh(builder("block"), width=1.0, height=1.0, nx=2, ny=2,
+                      cells="quadrilateral")
+    clay = Material(name="clay", E=1e4, nu=0.3, plastic=True, **strength)
+    solver = PlasticSolver(Model(mesh, {"soil": clay},
+                                 supports=[*SMOOTH_BOX, Displacement("top", uy=uy)]), degree=1)
+    assert solver.step(d_lambda=1.0) is not None
+    return solver
+
+
+def test_plastic_points_tell_shear_from_tension(builder):
+    """The block squeezed 1 % (100 kPa elastic, Tresca c = 20 kPa) has every point on the
+    Mohr-Coulomb surface (4 cells x 4 points); pulled 1 % with a 5 kPa tension cut-off, the
+    stress is the cut-off everywhere (sigma_yy = 5 kPa) and the points that flowed (the top
+    row) are tension cut-off points."""
+    squeezed = _block_moved(builder, -0.01, cohesion=20.0).state()
+    xy, kinds = plastic_points(squeezed)
+    assert xy.shape == (16, 2) and np.all(kinds == MOHR_COULOMB)
+    pulled = _block_moved(builder, 0.01, cohesion=20.0, tensile_strength=5.0).state()
+    np.testing.assert_allclose(pulled.stress[..., 1], 5.0, rtol=1e-9)
+    xy, kinds = plastic_points(pulled)
+    assert len(kinds) == int((pulled.yielded > 0).sum()) >= 8
+    assert np.all(kinds == TENSION_CUTOFF)
+    assert np.all((xy > 0.0) & (xy < 1.0))  # the points inside the block
+
+
+def test_shear_strain_of_a_uniform_squeeze(builder):
+    """Elastic block (c large) squeezed 0.1 % on a smooth box, free to bulge: eps_yy =
+    -0.001, eps_xx = nu / (1 - nu) x 0.001 (plane strain), so gamma_s = eps_xx - eps_yy."""
+    state = _block_moved(builder, -0.001, cohesion=1e4).state()
+    expected = 0.001 * (1.0 + 0.3 / 0.7)
+    np.testing.assert_allclose(shear_strain(state), expected, rtol=1e-9)
+    np.testing.assert_allclose(shear_strain(state, increment=0.5 * state.u.x.array),
+                               0.5 * expected, rtol=1e-9)
+
+
+def test_engineering_figures_are_written(builder, tmp_path):
+    """The deformed mesh, total and incremental shear strain and plastic points; a 1-2-5
+    scale that draws the largest displacement about 5 % of the model."""
+    state = _block_moved(builder, -0.01, cohesion=20.0).state()
+    paths = engineering_figures(tmp_path, state, prefix="x_", when="squeezed",
+                                increment=state.u.x.array)
+    assert [p.name for p in paths] == ["x_deformed_mesh.png", "x_shear_strain.png",
+                                       "x_plastic_points.png", "x_incremental_shear_strain.png"]
+    assert all(p.stat().st_size > 10_000 for p in paths)
+    assert _nice_scale(0.0224, 32.0) == 50.0 and _nice_scale(0.01, 1.0) == 5.0
+    assert _nice_scale(0.0, 1.0) == 1.0
