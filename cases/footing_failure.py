@@ -37,12 +37,14 @@ from pathlib import Path
 import numpy as np
 
 from hybrid.continuum import PlasticSolver
-from hybrid.discrete.energy import energy_excess, energy_peak_ratio
+from hybrid.continuum.series import ContinuumSeries
+from hybrid.discrete.energy import energy_excess, energy_peak_ratio, phase_history
 from hybrid.discrete.figures import plot_configuration
 from hybrid.discrete.measures import FootingMarks
 from hybrid.discrete.outputs import standard_outputs
 from hybrid.discrete.runs import LoadProgram
 from hybrid.discrete.solver import ExplicitSolver, RunOptions
+from hybrid.figures import engineering_figures
 from hybrid.geometry import build_mesh, load_builder
 from hybrid.handover import Region, to_discrete
 from hybrid.io import CaseSummary, Check, plot_cell_field, write_continuum_xdmf
@@ -116,7 +118,10 @@ def main(out: str | Path = "results/footing_failure", **overrides) -> CaseSummar
     curve = [(0.0, 0.0)]
     solver.monitors["settlement"] = lambda: -float(
         _displacement(solver, footing_point)[0, 1])
-    analysis = solver.ramp(p.pressure, p.continuum_steps)
+    # the load steps as a time series, the time the footing pressure
+    with ContinuumSeries(out / "continuum_steps.xdmf", solver,
+                         meaning="load factor = footing pressure [kPa]") as series:
+        analysis = solver.ramp(p.pressure, p.continuum_steps)
     curve += [(r.monitors["settlement"], r.load_factor) for r in solver.history
               if "settlement" in r.monitors]
     # stopped short of the pressure: a collapse only if the settlement ran away
@@ -136,13 +141,16 @@ def main(out: str | Path = "results/footing_failure", **overrides) -> CaseSummar
                       "collapse_pressure_kPa": q_handover if collapsed else None,
                       "handover_pressure_kPa": q_handover,
                       "reached_target": analysis.completed,
-                      "curve": curve}},
+                      "curve": curve, "series": series.report()}},
         checks={f"collapse_vs_{k}": Check(q_handover, v, None, "kPa", k)
                 for k, v in estimates.items() if collapsed})
     write_continuum_xdmf(out / "continuum.xdmf", state)
     plot_cell_field(out / "handover_plastic_strain.png", model.mesh,
                     state.cell_plastic_strain(), title="Plastic strain at handover",
                     label="plastic strain [-]", cmap="magma_r")
+    engineering_figures(out, state, prefix="continuum_", when=f"q = {q_handover:.0f} kPa",
+                        window=(0.0, -2.0 * p.footing_width, 3.0 * p.footing_width,
+                                0.25 * p.footing_width))
     if hand.discrete is None:  # MPI ranks other than 0 stop here
         return summary
     disc = hand.discrete
@@ -216,8 +224,11 @@ def main(out: str | Path = "results/footing_failure", **overrides) -> CaseSummar
     plot_load_settlement(out / "load_settlement.png", sc, qc, estimates, label="continuum",
                          more={"discrete (applied pressure)": (marks.offset + sd, qd)},
                          title="H2: footing load-settlement (settlement from the start)")
-    plot_energy(out / "energy_loaded.png", loaded.history)
-    plot_energy(out / "energy_rest.png", h)
+    # the whole discrete phase, loading and rest, as one ledger history
+    when = ({"unloading starts": t_start + program.t_unload} if program.t_unload else {})
+    plot_energy(out / "energy.png", phase_history([r.history for r in solver.results]),
+                marks={**when, "rest run starts": loaded.time},
+                title="H2: energy of the discrete phase (loading, unloading, rest)")
     plot_configuration(out / "final.png", disc, window=window, outline=True,
                        title=f"At rest: settlement {marks.total_settlement(disc):.3f} m "
                              f"({settlement:.3f} m since handover), "

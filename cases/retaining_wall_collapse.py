@@ -45,10 +45,12 @@ from pathlib import Path
 import numpy as np
 
 from hybrid.continuum import PlasticSolver
+from hybrid.continuum.series import ContinuumSeries
 from hybrid.discrete.energy import energy_excess, energy_peak_ratio
 from hybrid.discrete.figures import plot_configuration
 from hybrid.discrete.outputs import standard_outputs
 from hybrid.discrete.solver import ExplicitSolver, RunOptions
+from hybrid.figures import engineering_figures
 from hybrid.geometry import build_mesh, load_builder
 from hybrid.handover import Region, to_discrete
 from hybrid.io import CaseSummary, Check, plot_cell_field, write_continuum_xdmf
@@ -110,7 +112,13 @@ def main(out: str | Path = "results/retaining_wall_collapse", **overrides) -> Ca
         solver.apply_gravity(steps=2).require()
         thrust = [abs(solver.reaction("wall", 0))]
         solver.monitors["thrust"] = lambda: abs(solver.reaction("wall", 0))
-        analysis = solver.ramp(1.0, p.steps)
+        stage = "active" if move < 0 else "passive"
+        # the stage's steps as a time series, the time the wall's translation
+        with ContinuumSeries(out / f"continuum_{stage}.xdmf", solver,
+                             meaning=f"load factor = wall translation / {abs(move):g} m "
+                                     f"({stage})") as series:
+            analysis = solver.ramp(1.0, p.steps)
+        series_reports[stage] = series.report()
         moves = [0.0] + [r.load_factor * abs(move) for r in solver.history
                          if "thrust" in r.monitors]
         thrust += [r.monitors["thrust"] for r in solver.history if "thrust" in r.monitors]
@@ -119,6 +127,7 @@ def main(out: str | Path = "results/retaining_wall_collapse", **overrides) -> Ca
         return solver, moves, thrust
 
     # 1. continuum: at rest, active (and passive) translation of the smooth wall
+    series_reports: dict[str, dict] = {}
     solver, moves, thrust = continuum(-p.translation)
     state = solver.state()
     ka = math.tan(math.radians(45.0 - p.phi / 2.0)) ** 2
@@ -145,10 +154,14 @@ def main(out: str | Path = "results/retaining_wall_collapse", **overrides) -> Ca
             label="active", title="H3: smooth wall, rough base",
             more={"passive": (passive["translation_m"], passive["thrust_kN_per_m"])}
             if passive else None)
+    summary["continuum"]["series"] = series_reports
     write_continuum_xdmf(out / "continuum.xdmf", state)
     plot_cell_field(out / "handover_plastic_strain.png", state.model.mesh,
                     state.cell_plastic_strain(), title="Active state: plastic strain",
                     label="plastic strain [-]", cmap="magma_r")
+    engineering_figures(out, state, prefix="active_",
+                        when=f"wall moved {p.translation:g} m away",
+                        window=(-0.25 * p.front, -1.0, p.length, 1.05 * p.height))
 
     # 2. handover: the backfill may split, the ground is held
     hand = to_discrete(state, region=Region(group="backfill"))

@@ -39,7 +39,9 @@ import numpy as np
 
 from hybrid.case import uses_defaults
 from hybrid.continuum.plastic import NewtonOptions, PlasticSolver
+from hybrid.continuum.series import ContinuumSeries
 from hybrid.continuum.strength_reduction import StrengthSearch, factor_of_safety
+from hybrid.figures import engineering_figures
 from hybrid.geometry import build_mesh, load_builder
 from hybrid.io import CaseSummary, Check, plot_cell_field, write_continuum_xdmf
 from hybrid.materials import Material
@@ -99,11 +101,15 @@ def main(out: str | Path = "results/slope_fos", **overrides: Any) -> CaseSummary
                           toe_x=0.0, crest_length=p.crest_length, size=p.height / n)
         model = Model(mesh, {"soil": soil}, supports=[Fixed("base"), Roller("right", "x")])
         solver = PlasticSolver(model, degree=p.degree, options=newton)
-        result = factor_of_safety(solver, search=search, gravity_steps=p.gravity_steps)
+        # every switch-on step and trial with equilibrium, the time the strength factor F
+        with ContinuumSeries(out / f"strength_reduction_H{n}.xdmf", solver,
+                             time="strength_factor") as series:
+            result = factor_of_safety(solver, search=search, gravity_steps=p.gravity_steps)
         runs.append({"elements_per_height": n, "element_size_m": p.height / n,
                      "cells": result.state.info["cells"],
                      "newton_iterations": solver.iterations_total,
-                     "wall_time_s": solver.wall_time, **result.as_dict()})
+                     "wall_time_s": solver.wall_time, **result.as_dict(),
+                     "series": series.report()})
     assert result is not None and model is not None
     state = result.state
     F = [r["F"] for r in runs]
@@ -143,6 +149,8 @@ def main(out: str | Path = "results/slope_fos", **overrides: Any) -> CaseSummary
     plot_cell_field(out / "mechanism_plastic_strain.png", model.mesh,
                     state.cell_plastic_strain(), title=f"Plastic strain at F = {F[-1]:.3f}",
                     label="plastic strain [-]", cmap="magma_r", overlay=circle)
+    engineering_figures(out, state, prefix="fos_", when=f"F = {F[-1]:.3f}",
+                        increment=result.mechanism, overlay=circle)
     magnitude = np.linalg.norm(state.cell_displacement(result.mechanism), axis=1)
     plot_cell_field(out / "mechanism_displacement.png", model.mesh, magnitude,
                     title="Failure mechanism: displacement increment of the last step",

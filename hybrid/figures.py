@@ -2,10 +2,13 @@
 
 Cell fields in a window with the cells not yet placed left blank, displacement vectors,
 profiles up a vertical line and through a column of cells, the strength-reduction mechanism
-with a slip circle. Built on :func:`hybrid.io.plot_cell_field` and
-:func:`hybrid.io.gather_cells`: every function is collective under MPI and writes from rank 0;
-each returns the paths written (none on the other ranks). Axes in m, stresses in kPa
-(tension positive); ``window`` = (xmin, ymin, xmax, ymax) [m] (:data:`hybrid.io.Box`).
+with a slip circle; the figures an engineer reads first in PLAXIS Output
+(:func:`engineering_figures`): the deformed mesh over the undeformed outline, total and
+incremental shear strain, plastic points (Mohr-Coulomb and tension cut-off). Built on
+:func:`hybrid.io.plot_cell_field` and :func:`hybrid.io.gather_cells`: every function is
+collective under MPI and writes from rank 0; each returns the paths written (none on the
+other ranks). Axes in m, stresses in kPa (tension positive); ``window`` = (xmin, ymin,
+xmax, ymax) [m] (:data:`hybrid.io.Box`).
 """
 
 from __future__ import annotations
@@ -24,8 +27,10 @@ if TYPE_CHECKING:
     from hybrid.references import SlipCircle
 
 __all__ = ["Column", "Band", "plot_level_history", "window_overlay", "construction_figures",
-           "plot_displacement_vectors",
-           "plot_column_profiles", "safety_figures", "staged_figures"]
+           "plot_displacement_vectors", "plot_column_profiles", "safety_figures",
+           "staged_figures", "shear_strain", "plastic_points", "plot_deformed_mesh",
+           "plot_shear_strain", "plot_plastic_points", "engineering_figures", "MOHR_COULOMB",
+           "TENSION_CUTOFF"]
 
 Window = Box
 
@@ -283,3 +288,242 @@ def staged_figures(out: str | Path, mesh: Any, state: ContinuumState, built: Con
         paths += safety_figures(out, mesh, built.safety, active=built.safety_active,
                                 window=window, circle=circle)
     return paths
+
+
+# --- the figures an engineer reads first (PLAXIS Output's) ---------------------------------
+
+#: kinds of :func:`plastic_points`
+MOHR_COULOMB, TENSION_CUTOFF = 1, 2
+
+
+def shear_strain(state: ContinuumState, increment: np.ndarray | None = None) -> np.ndarray:
+    """Cell-mean shear strain gamma_s = eps_1 - eps_3 (in plane) of the owned cells [-].
+
+    gamma_s = sqrt((eps_xx - eps_yy)^2 + gamma_xy^2) at each point, from the displacement
+    (total: since the displacements were last set to zero) or from ``increment`` (dof values
+    of ``state.u``'s space, e.g. the last step of a strength-reduction search).
+    """
+    from hybrid.continuum.fields import strain
+    from hybrid.continuum.quadrature import evaluate_at_points
+
+    u = state.u
+    if increment is not None:
+        u = state.u.copy()
+        u.x.array[:] = increment
+    eps = evaluate_at_points(state.disc, strain(u))
+    gamma = np.hypot(eps[..., 0] - eps[..., 1], eps[..., 3])
+    return state.cell_mean(gamma[..., None])[:, 0]
+
+
+def plastic_points(state: ContinuumState) -> tuple[np.ndarray, np.ndarray] | None:
+    """The points on the yield surface at the last step, on rank 0 (None elsewhere).
+
+    Returns their coordinates (n, 2) [m] and kinds: :data:`TENSION_CUTOFF` where the largest
+    principal stress is at the tension cut-off in force (the apex when none is given), else
+    :data:`MOHR_COULOMB` (collective).
+    """
+    import ufl
+
+    from hybrid.constitutive.softening import (
+        characteristic_length,
+        softening_fraction,
+        strength_at,
+    )
+    from hybrid.constitutive.table import kernel_table
+    from hybrid.continuum.quadrature import evaluate_at_points
+
+    model = state.model
+    table = kernel_table([model.materials[k] for k in model.material_names],
+                         state.strength_factor)[0]
+    nqp = state.stress.shape[1]
+    x, cells = model.mesh.cell_vertices()
+    length = np.repeat(characteristic_length(x, cells), nqp)
+    material = np.repeat(model.material_ids(), nqp)
+    coords = evaluate_at_points(state.disc, ufl.SpatialCoordinate(state.mesh)).reshape(-1, 2)
+    stress = state.stress.reshape(-1, 4)
+    kappa = state.plastic_strain.ravel()
+    on = np.flatnonzero(state.yielded.ravel() > 0)
+    kinds = np.full(on.size, MOHR_COULOMB, dtype=np.int8)
+    for k, q in enumerate(on):
+        m = int(material[q])
+        c, _, _, _, t = strength_at(table, m, softening_fraction(table, m, kappa[q], length[q]))
+        sxx, syy, szz, sxy = stress[q]
+        s1 = max(0.5 * (sxx + syy) + np.hypot(0.5 * (sxx - syy), sxy), szz)
+        if s1 >= t - 1e-6 * max(abs(t), c, 1.0):
+            kinds[k] = TENSION_CUTOFF
+    gathered = state.comm.gather((coords[on], kinds), root=0)
+    if state.comm.rank != 0:
+        return None
+    return (np.concatenate([g[0] for g in gathered]).reshape(-1, 2),
+            np.concatenate([g[1] for g in gathered]))
+
+
+def _nice_scale(largest: float, size: float) -> float:
+    """A 1-2-5 factor that draws ``largest`` [m] about 5 % of ``size`` [m] (1 when 0)."""
+    if not largest > 0.0:
+        return 1.0
+    raw = 0.05 * size / largest
+    decade = 10.0 ** np.floor(np.log10(raw))
+    return float(max(f for f in (1.0, 2.0, 5.0) if f * decade <= raw) * decade)
+
+
+def _outline(polys: np.ndarray) -> np.ndarray:
+    """The edges (n, 2, 2) [m] that belong to one cell only: the body's outline."""
+    edges = np.stack([polys, np.roll(polys, -1, axis=1)], axis=2).reshape(-1, 2, 2)
+    scale = 1e-9 * max(float(np.ptp(polys)), 1.0)
+    keys = np.round(edges / scale).astype(np.int64)
+    flipped = keys[:, ::-1]
+    canon = np.where((keys[:, 0, 0] < flipped[:, 0, 0])[:, None, None]
+                     | ((keys[:, 0, 0] == flipped[:, 0, 0])
+                        & (keys[:, 0, 1] <= flipped[:, 0, 1]))[:, None, None], keys, flipped)
+    _, inverse, counts = np.unique(canon.reshape(len(edges), 4), axis=0, return_inverse=True,
+                                   return_counts=True)
+    return edges[counts[inverse.ravel()] == 1]
+
+
+def _mesh_axes(window: Window | None, elevation_label: str, size: tuple[float, float] = (9, 6)
+               ) -> tuple[Any, Any]:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=size, dpi=120)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel(elevation_label)
+    return fig, ax
+
+
+def _crop(ax: Any, window: Window | None) -> None:
+    if window is None:
+        ax.autoscale_view()
+    else:
+        window_overlay(window)(ax)
+
+
+def plot_deformed_mesh(path: str | Path, state: ContinuumState, *,
+                       scale: float | None = None, window: Window | None = None,
+                       title: str = "Deformed mesh", active: np.ndarray | None = None,
+                       elevation_label: str = "y [m]") -> Path | None:
+    """The mesh deformed by ``scale`` x the displacement, over the undeformed outline.
+
+    ``scale`` None: a 1-2-5 factor that draws the largest nodal displacement 5 % of the
+    model's size; the factor and the largest |u| are in the title. ``active``: the owned
+    cells drawn (None: every cell, or those in place in a staged construction).
+    """
+    if active is None:
+        active = (np.ones(state.model.mesh.num_owned_cells, dtype=bool) if state.active is None
+                  else state.active)
+    polys, flag = gather_cells(state.model.mesh, np.asarray(active, float))
+    moved, _ = gather_cells(state.model.mesh, np.asarray(active, float), state.u, 1.0)
+    if polys is None or moved is None or flag is None:  # all None together, off rank 0
+        return None
+    from matplotlib.collections import LineCollection, PolyCollection
+
+    keep = flag > 0.5
+    polys, moved = polys[keep], moved[keep]
+    u = (moved - polys).reshape(-1, 2)
+    largest = float(np.max(np.linalg.norm(u, axis=1), initial=0.0))
+    if scale is None:
+        scale = _nice_scale(largest, float(np.max(np.ptp(polys.reshape(-1, 2), axis=0))))
+    fig, ax = _mesh_axes(window, elevation_label)
+    ax.add_collection(LineCollection(_outline(polys), colors="0.45", linewidths=1.0,
+                                     linestyles="--", label="undeformed outline"))
+    ax.add_collection(PolyCollection(polys + scale * (moved - polys), facecolors="none",
+                                     edgecolors="k", linewidths=0.3,
+                                     label=f"deformed mesh (x {scale:g})"))
+    _crop(ax, window)
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=2, fontsize=8)
+    ax.set_title(f"{title}: displacements x {scale:g} (largest |u| = {largest:.3g} m)")
+    return save_figure(fig, path)
+
+
+def plot_shear_strain(path: str | Path, state: ContinuumState, *,
+                      increment: np.ndarray | None = None, window: Window | None = None,
+                      title: str = "Total shear strain", active: np.ndarray | None = None,
+                      overlay: Callable[[Any], None] | None = None) -> Path | None:
+    """Shaded cell-mean shear strain gamma_s (:func:`shear_strain`) [%].
+
+    Cells not ``active`` are left blank; ``increment``: of that displacement increment;
+    ``overlay(ax)`` draws on top (e.g. a slip circle).
+    """
+    gamma = 100.0 * shear_strain(state, increment)
+    if active is None:
+        active = state.active
+    if active is not None:
+        gamma = np.where(active, gamma, np.nan)
+    label = ("incremental" if increment is not None else "total") + " shear strain"
+    crop = None if window is None else window_overlay(window)
+
+    def draw(ax: Any) -> None:
+        if crop is not None:
+            crop(ax)
+        if overlay is not None:
+            overlay(ax)
+
+    return plot_cell_field(path, state.model.mesh, gamma, title=title,
+                           label=f"{label} gamma_s = eps_1 - eps_3 [%]", cmap="magma_r",
+                           overlay=draw)
+
+
+def plot_plastic_points(path: str | Path, state: ContinuumState, *,
+                        window: Window | None = None, title: str = "Plastic points",
+                        elevation_label: str = "y [m]") -> Path | None:
+    """The mesh with the points on the yield surface (:func:`plastic_points`).
+
+    Red squares: Mohr-Coulomb points; white squares: tension cut-off points; their counts
+    in the title.
+    """
+    points = plastic_points(state)
+    polys, _ = gather_cells(state.model.mesh, np.zeros(state.model.mesh.num_owned_cells))
+    if points is None or polys is None:  # off rank 0
+        return None
+    from matplotlib.collections import PolyCollection
+
+    xy, kinds = points
+    fig, ax = _mesh_axes(window, elevation_label)
+    ax.add_collection(PolyCollection(polys, facecolors="none", edgecolors="0.75",
+                                     linewidths=0.3))
+    counts = []
+    for kind, name, face, size in ((MOHR_COULOMB, "Mohr-Coulomb", "red", 2.2),
+                                   (TENSION_CUTOFF, "tension cut-off", "white", 3.5)):
+        pick = kinds == kind
+        counts.append(f"{int(pick.sum())} {name}")
+        ax.plot(xy[pick, 0], xy[pick, 1], "s", ms=size, mfc=face, mec="k", mew=0.5 * size / 3,
+                label=f"{name} point ({int(pick.sum())})")
+    _crop(ax, window)
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=2, fontsize=8)
+    ax.set_title(f"{title}: {', '.join(counts)}")
+    return save_figure(fig, path)
+
+
+def engineering_figures(out: str | Path, state: ContinuumState, *, prefix: str = "",
+                        when: str = "", window: Window | None = None,
+                        scale: float | None = None, increment: np.ndarray | None = None,
+                        overlay: Callable[[Any], None] | None = None,
+                        elevation_label: str = "y [m]") -> list[Path]:
+    """The figures an engineer reads first, of ``state`` ("``when``" in the titles).
+
+    ``{prefix}deformed_mesh.png`` (:func:`plot_deformed_mesh`, ``scale``),
+    ``{prefix}shear_strain.png`` (total shear strain), ``{prefix}plastic_points.png`` and,
+    with a displacement ``increment`` (e.g. ``SafetyResult.mechanism``),
+    ``{prefix}incremental_shear_strain.png``; ``overlay(ax)`` is drawn over the shear
+    strains (e.g. the critical slip circle). Collective; the paths on rank 0.
+    """
+    out = Path(out)
+    at = f", {when}" if when else ""
+    paths = [plot_deformed_mesh(out / f"{prefix}deformed_mesh.png", state, scale=scale,
+                                window=window, title=f"Deformed mesh{at}",
+                                elevation_label=elevation_label),
+             plot_shear_strain(out / f"{prefix}shear_strain.png", state, window=window,
+                               title=f"Total shear strain{at}", overlay=overlay),
+             plot_plastic_points(out / f"{prefix}plastic_points.png", state, window=window,
+                                 title=f"Plastic points{at}",
+                                 elevation_label=elevation_label)]
+    if increment is not None:
+        paths.append(plot_shear_strain(out / f"{prefix}incremental_shear_strain.png", state,
+                                       increment=increment, window=window,
+                                       title=f"Incremental shear strain{at}",
+                                       overlay=overlay))
+    return [p for p in paths if p is not None]

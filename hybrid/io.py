@@ -16,8 +16,6 @@ from typing import Any
 
 import numpy as np
 
-from hybrid.snapshot import STRESS_NAMES
-
 __all__ = ["Check", "CaseSummary", "write_summary", "write_continuum_xdmf", "plot_cell_field",
            "gather_cells", "continuum_figures", "Box", "check_box"]
 
@@ -269,38 +267,27 @@ def save_figure(fig: Any, path: str | Path) -> Path:
 def write_continuum_xdmf(path: str | Path, state: Any) -> Path:
     """Write a :class:`~hybrid.continuum.ContinuumState` to XDMF (+ .h5) for ParaView.
 
-    Point data: displacement [m] at the vertices. Cell data: cell-mean stress components
-    [kPa], plastic strain, yield flag, material id. Gathered to rank 0 and written with meshio,
-    so the file opens in ParaView and in ``meshio.read``.
+    One state, with meshio (it opens in ParaView and in ``meshio.read``): the fields of
+    :func:`~hybrid.continuum.series.continuum_fields`, named as in the series of both phases
+    (``displacement`` [m] at the nodes; ``sigma_xx`` ... [kPa], ``plastic_strain``,
+    ``yielded`` (fraction of the points), ``material`` per cell). A series of the steps is
+    :class:`~hybrid.continuum.series.ContinuumSeries`. Collective; rank 0 writes.
     """
     import meshio
 
+    from hybrid.continuum.series import continuum_fields
+
     path = Path(path)
-    md = state.model.mesh
-    x, cells = md.cell_vertices()
-    global_ids = np.asarray(md.mesh.geometry.input_global_indices, dtype=np.int64)
-    u_nodes = displacement_at_geometry_nodes(md.mesh, state.u)
-    cell_stress = state.cell_stress()
-    cell_fields = {name: cell_stress[:, i] for i, name in enumerate(STRESS_NAMES)}
-    cell_fields["plastic_strain"] = state.cell_plastic_strain()
-    cell_fields["yielded"] = np.any(state.yielded > 0, axis=1).astype(float)
-    cell_fields["material"] = state.model.material_ids().astype(float)
-    comm = state.comm
-    gathered = comm.gather((global_ids, x, u_nodes, global_ids[cells], cell_fields), root=0)
-    if comm.rank != 0:
+    fields = continuum_fields(state)
+    if fields is None:
         return path
-    n_points = 1 + max(int(g[0].max()) for g in gathered if len(g[0]))
-    points, displacement = np.zeros((n_points, 3)), np.zeros((n_points, 2))
-    for ids, coords, disp, _, _ in gathered:
-        points[ids, :2] = coords
-        displacement[ids] = disp
-    connectivity = np.concatenate([g[3] for g in gathered])
-    data = {name: [np.concatenate([g[4][name] for g in gathered])] for name in cell_fields}
-    kind = "quad" if md.is_quad else "triangle"
+    kind = "quad" if state.model.mesh.is_quad else "triangle"
     path.parent.mkdir(parents=True, exist_ok=True)
-    meshio.write(path, meshio.Mesh(points, [(kind, connectivity)],
-                                   point_data={"displacement": displacement},
-                                   cell_data=data))
+    cell_data = {**fields.cell_data, "material": fields.material.astype(float)}
+    meshio.write(path, meshio.Mesh(np.column_stack([fields.points, np.zeros(len(fields.points))]),
+                                   [(kind, fields.cells)],
+                                   point_data={"displacement": fields.displacement},
+                                   cell_data={k: [v] for k, v in cell_data.items()}))
     return path
 
 

@@ -122,10 +122,13 @@ def plot_profile(path: str | Path, depth: Sequence[float],
     return save_figure(fig, path)
 
 
-def plot_energy(path: str | Path, history: Mapping[str, Any]) -> Path:
+def plot_energy(path: str | Path, history: Mapping[str, Any], *,
+                marks: Mapping[str, float] | None = None, title: str = "") -> Path:
     """PNG of a discrete run's energy ledger and the total dissipation against time [kJ/m].
 
-    ``history``: ``RunResult.history``, every term the engine records.
+    ``history``: ``RunResult.history``, every term the engine records, or the history of a
+    whole phase (:func:`hybrid.discrete.energy.phase_history`); ``marks``: {label: time [s]}
+    drawn as dotted vertical lines (e.g. where the rest run starts).
     """
     import matplotlib
 
@@ -142,8 +145,12 @@ def plot_energy(path: str | Path, history: Mapping[str, Any]) -> Path:
             ax.plot(history["time"], y, lw=1.2, label=LABELS.get(key, key))
     ax.plot(history["time"], sum(history[k] for k in DISSIPATION if k in history), "k--",
             lw=1.5, label="total dissipation")
+    for i, (label, time) in enumerate((marks or {}).items()):
+        ax.axvline(time, color=("0.2", "0.5", "0.7")[i % 3], ls=":", lw=1.2, label=label)
     ax.set_xlabel("time [s]")
     ax.set_ylabel("energy [kJ/m]")
+    if title:
+        ax.set_title(title)
     ax.grid(alpha=0.3)
     ax.legend(fontsize=7, loc="best")
     return save_figure(fig, path)

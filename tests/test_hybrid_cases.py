@@ -34,8 +34,22 @@ def _assert_outputs(out, summary):
                frames[0]["xlim"], frames[0]["ylim"]) for f in frames)
     movie = json.loads((out / "discrete" / "animation.json").read_text())["movie"]
     for name in (f"discrete/{movie}", "final.png", "discrete_start.png",
-                 "handover_plastic_strain.png"):
+                 "handover_plastic_strain.png", "energy.png"):
         assert (out / name).is_file(), name
+
+
+def _assert_continuum_series(path, times, report):
+    """The continuum's series opens in meshio with one frame per time of the case's curve
+    (the start and every load step), named as the discrete series."""
+    reader = meshio.xdmf.TimeSeriesReader(path)
+    reader.read_points_cells()
+    assert reader.num_steps == len(times) == report["frames"]
+    assert [reader.read_data(k)[0] for k in range(reader.num_steps)] == pytest.approx(
+        times, rel=1e-12)
+    _, point_data, cell_data = reader.read_data(reader.num_steps - 1)
+    assert set(point_data) == {"displacement"}
+    assert {"sigma_xx", "sigma_yy", "sigma_zz", "sigma_xy", "plastic_strain", "yielded",
+            "material"} == set(cell_data)
 
 
 def test_retaining_wall_collapse_coarse(case, tmp_path):
@@ -48,6 +62,12 @@ def test_retaining_wall_collapse_coarse(case, tmp_path):
     assert s["discrete"]["runout_m"] > 1.0  # the sand spread in front of the wall
     assert s["discrete"]["interfaces_failed"] > 0
     _assert_outputs(tmp_path, s)
+    active = s["continuum"]["active"]["translation_m"]
+    _assert_continuum_series(tmp_path / "continuum_active.xdmf",
+                             [m / active[-1] for m in active],
+                             s["continuum"]["series"]["active"])
+    for name in ("deformed_mesh", "shear_strain", "plastic_points"):
+        assert (tmp_path / f"active_{name}.png").is_file(), name
 
 
 def test_footing_failure_coarse(case, tmp_path):
@@ -70,6 +90,11 @@ def test_footing_failure_coarse(case, tmp_path):
     assert t_last - t_first == pytest.approx(s["discrete"]["time_to_rest_s"], rel=1e-12)
     frames = json.loads((tmp_path / "discrete" / "animation.json").read_text())["frames"]
     assert [f["phase"] for f in frames][::len(frames) - 1] == ["loading", "rest"]
+    # the continuum's load steps: the time is the footing pressure, to the handover's
+    _assert_continuum_series(tmp_path / "continuum_steps.xdmf",
+                             [q for _, q in s["continuum"]["curve"]], s["continuum"]["series"])
+    for name in ("deformed_mesh", "shear_strain", "plastic_points"):
+        assert (tmp_path / f"continuum_{name}.png").is_file(), name
 
 
 @pytest.mark.slow

@@ -12,6 +12,7 @@ import json
 import math
 import subprocess
 
+import meshio
 import numpy as np
 import pytest
 from conftest import CASES, PYTHON, ROOT
@@ -54,8 +55,18 @@ def test_c9_two_meshes(case, tmp_path, psi):
     curve = json.loads((tmp_path / "strength_reduction_curve.json").read_text())
     assert curve["references"]["Bishop & Morgenstern (1960)"] == 1.38
     for name in ("mechanism_displacement.png", "mechanism_plastic_strain.png",
-                 "strength_reduction_curve.png", "continuum.xdmf"):
+                 "strength_reduction_curve.png", "continuum.xdmf", "fos_deformed_mesh.png",
+                 "fos_shear_strain.png", "fos_incremental_shear_strain.png",
+                 "fos_plastic_points.png"):
         assert (tmp_path / name).is_file()
+    # each mesh's search as a series whose time is F: rising, to the F found
+    for run in s["meshes"]:
+        with meshio.xdmf.TimeSeriesReader(
+                tmp_path / f"strength_reduction_H{run['elements_per_height']}.xdmf") as r:
+            r.read_points_cells()
+            times = [r.read_data(k)[0] for k in range(r.num_steps)]
+        assert len(times) == run["series"]["frames"] and np.all(np.diff(times) > 0)
+        assert times[-1] == pytest.approx(run["F"], rel=1e-12)
 
 
 @pytest.mark.slow

@@ -171,7 +171,9 @@ class PlasticSolver:
     factor lambda; self-weight is a separate factor (``gravity``) switched on by
     :meth:`apply_gravity`. Cells can be switched off (staged construction) with
     :meth:`set_active`. The strengths in force are those of the materials divided by
-    ``strength_factor`` (:meth:`set_strength_factor`; 1 by default).
+    ``strength_factor`` (:meth:`set_strength_factor`; 1 by default). Each function in
+    ``observers`` is called with (solver, :class:`StepRecord`) after every committed step
+    (outputs that only read, e.g. :class:`~hybrid.continuum.series.ContinuumSeries`).
     """
 
     def __init__(self, model: Model, *, degree: int = 2,
@@ -206,6 +208,8 @@ class PlasticSolver:
         self.gravity_factor = 0.0
         self.history: list[StepRecord] = []
         self.monitors: dict[str, Callable[[], float]] = {}
+        # called with (solver, record) after every committed step (outputs: they only read)
+        self.observers: list[Callable[[PlasticSolver, StepRecord], None]] = []
 
         v, w = ufl.TestFunction(V), ufl.TrialFunction(V)
         self._lam = fem.Constant(V.mesh, PETSc.ScalarType(0.0))
@@ -343,6 +347,8 @@ class PlasticSolver:
         record = StepRecord(self.load_factor, iterations, residuals,
                             {k: f() for k, f in self.monitors.items()}, self.strength_factor)
         self.history.append(record)
+        for observe in self.observers:
+            observe(self, record)
         return record
 
     def step(self, d_lambda: float = 0.0, d_gravity: float = 0.0, *,

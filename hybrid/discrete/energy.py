@@ -7,12 +7,13 @@ supply has bounded energy (dissipation takes the difference).
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
 
 __all__ = ["mechanical_energy", "energy_excess", "energy_peak_ratio", "conservation_checks",
-           "LABELS", "DISSIPATION"]
+           "phase_history", "LABELS", "DISSIPATION"]
 
 #: plot labels of the ledger terms
 LABELS = {"kinetic": "kinetic", "strain": "strain", "contact_elastic": "contact (elastic)",
@@ -56,3 +57,25 @@ def conservation_checks(h: dict, state: Any, n_elements: int, mass: float) -> di
                                             "E_kin + E_strain + E_contact <= E(0) + work"),
         "elements_conserved": Check(float(state.n_elements), float(n_elements), 0.0),
         "mass_conserved": Check(float(state.mass.sum()), mass, 1e-12, "t/m")}
+
+
+def phase_history(histories: Sequence[Mapping[str, Any]]) -> dict[str, np.ndarray]:
+    """The histories of consecutive runs of one solver as one history of the phase.
+
+    ``histories``: ``RunResult.history`` of each run in order (e.g. of
+    ``ExplicitSolver.results``: loading, then rest). The ledger's terms are totals since the
+    state was made and carry over from run to run; the residual of each run counts from its
+    start, so the residual at the end of the runs before is added to it: the residual of the
+    phase counts from the start of the first run.
+    """
+    if not histories:
+        raise ValueError("phase_history: give the history of one run at least")
+    out: dict[str, list[np.ndarray]] = {key: [] for key in histories[0]}
+    offset = 0.0
+    for h in histories:
+        for key in out:
+            values = np.asarray(h[key], dtype=float)
+            out[key].append(values + offset if key == "residual" else values)
+        if len(h["residual"]):
+            offset += float(np.asarray(h["residual"])[-1])
+    return {key: np.concatenate(parts) for key, parts in out.items()}

@@ -32,7 +32,7 @@ import os
 import shutil
 from collections.abc import Sequence
 from pathlib import Path
-from xml.sax.saxutils import quoteattr
+from typing import Any
 
 import numpy as np
 
@@ -41,6 +41,7 @@ from hybrid.discrete.solver import ExplicitSolver, Observer, RunResult
 from hybrid.discrete.state import DiscreteState
 from hybrid.errors import OutputError
 from hybrid.snapshot import STRESS_NAMES
+from hybrid.xdmf import replace_file, series_index, write_frame, write_index, write_mesh
 
 __all__ = ["XdmfSeries", "Animation", "Checkpoints", "ProgressBar", "standard_outputs",
            "frame_interval", "RESUME", "CHECKPOINT", "PREVIOUS_CHECKPOINT"]
@@ -57,13 +58,6 @@ def _check_every(name: str, every: int) -> int:
     if int(every) != every or every < 1:
         raise ValueError(f"{name} = {every!r}: must be an integer >= 1 (steps between outputs)")
     return int(every)
-
-
-def _replace(tmp: Path, path: Path) -> None:
-    """Move a finished temporary file onto ``path`` (atomic on one file system)."""
-    with open(tmp, "rb+") as f:
-        os.fsync(f.fileno())
-    os.replace(tmp, path)
 
 
 class _Periodic(Observer, abc.ABC):
@@ -140,51 +134,31 @@ class XdmfSeries(_Periodic):
         self.frames: list[tuple[float, int, str, str]] = []  # time, step, phase, file
 
     def _start(self, solver: ExplicitSolver) -> None:
-        import h5py
-
         st = solver.state
         series = self.out / "discrete_series"
         if series.exists():
             shutil.rmtree(series)
         series.mkdir()
-        mesh = self.out / "discrete.h5"
-        tmp = mesh.with_name(mesh.name + ".tmp")
-        with h5py.File(tmp, "w") as f:
-            g = f.create_group("mesh")
-            g["geometry"] = st.x_ref
-            g["topology"] = st.element_nodes.astype(np.int64)
-            g["material"] = st.element_material.astype(np.int32)
-            g.attrs["material_names"] = ";".join(self.material_names)
-        _replace(tmp, mesh)
+        mesh = write_mesh(self.out / "discrete.h5", st.x_ref, st.element_nodes,
+                          st.element_material, self.material_names)
         self._nen, self._ne, self._nn = st.nen, st.n_elements, st.n_nodes
         self.files += [self.path, mesh, series]
 
     def _write(self, solver: ExplicitSolver) -> None:
-        import h5py
-
         st = solver.state
         name = f"discrete_series/frame_{len(self.frames):05d}.h5"
         path = self.out / name
-        tmp = path.with_name(path.name + ".tmp")
         try:
-            with h5py.File(tmp, "w") as f:
-                for key, value in frame_fields(st, solver.contact_force).items():
-                    f[key] = value
-                f.attrs["time"] = st.time
-                f.attrs["step"] = st.step
-                f.attrs["phase"] = solver.phase
-            _replace(tmp, path)
+            write_frame(path, frame_fields(st, solver.contact_force), time=st.time,
+                        step=st.step, phase=solver.phase)
             self.frames.append((st.time, st.step, solver.phase, name))
             self._write_index()
         except OSError as err:
-            tmp.unlink(missing_ok=True)
             raise OutputError(_lost(path, err, self.frames)) from None
 
     def _write_index(self) -> None:
-        tmp = self.path.with_name(self.path.name + ".tmp")
-        tmp.write_text(_xdmf_index(self._nen, self._ne, self._nn, self.material_names,
-                                   self.frames))
-        _replace(tmp, self.path)
+        write_index(self.path, _xdmf_index(self._nen, self._ne, self._nn,
+                                           self.material_names, self.frames))
 
     def state(self) -> dict[str, np.ndarray]:
         """The number of frames written."""
@@ -248,34 +222,12 @@ _CELL_FIELDS = (*STRESS_NAMES, "plastic_strain", "yielded", "failed_interfaces")
 def _xdmf_index(nen: int, ne: int, nn: int, material_names: Sequence[str],
                 frames: Sequence[tuple[float, int, str, str]]) -> str:
     """The XDMF 3 text of the series: the mesh, then one grid per frame file."""
-    def item(ref: str, dims: str, kind: str = "Float", precision: int = 8) -> str:
-        return (f'<DataItem DataType="{kind}" Dimensions="{dims}" Format="HDF" '
-                f'Precision="{precision}">{ref}</DataItem>')
-
-    topo = "Quadrilateral" if nen == 4 else "Triangle"
-    names = "; ".join(f"{i}: {n}" for i, n in enumerate(material_names))
-    lines = ['<?xml version="1.0"?>',
-             '<Xdmf Version="3.0" xmlns:xi="http://www.w3.org/2001/XInclude">', "<Domain>",
-             f'<Information Name="material_names" Value={quoteattr(names)}/>',
-             '<Grid Name="mesh" GridType="Uniform">',
-             f'<Topology TopologyType="{topo}" NumberOfElements="{ne}">'
-             f'{item("discrete.h5:/mesh/topology", f"{ne} {nen}", "Int")}</Topology>',
-             f'<Geometry GeometryType="XY">{item("discrete.h5:/mesh/geometry", f"{nn} 2")}'
-             "</Geometry>", "</Grid>",
-             '<Grid Name="series" GridType="Collection" CollectionType="Temporal">']
-    include = ('<xi:include xpointer="xpointer(//Grid[@Name=&quot;mesh&quot;]/*[self::Topology '
-               'or self::Geometry])"/>')
-    for time, _, _, name in frames:
-        lines += ["<Grid>", include, f'<Time Value="{time!r}"/>']
-        lines += [f'<Attribute Name="{f}" AttributeType="Vector" Center="Node">'
-                  f'{item(f"{name}:/{f}", f"{nn} 2")}</Attribute>' for f in _POINT_FIELDS]
-        lines += [f'<Attribute Name="{f}" AttributeType="Scalar" Center="Cell">'
-                  f'{item(f"{name}:/{f}", str(ne))}</Attribute>' for f in _CELL_FIELDS]
-        lines += ['<Attribute Name="material" AttributeType="Scalar" Center="Cell">'
-                  f'{item("discrete.h5:/mesh/material", str(ne), "Int", 4)}</Attribute>',
-                  "</Grid>"]
-    lines += ["</Grid>", "</Domain>", "</Xdmf>", ""]
-    return "\n".join(lines)
+    return series_index(
+        mesh="discrete.h5", cells=ne, nodes_per_cell=nen, points=nn,
+        point_fields={f: 2 for f in _POINT_FIELDS}, cell_fields=_CELL_FIELDS,
+        frames=[(time, name) for time, _, _, name in frames],
+        information={"material_names": "; ".join(f"{i}: {n}"
+                                                 for i, n in enumerate(material_names))})
 
 
 def _lost(path: Path, err: OSError, frames: Sequence[tuple[float, int, str, str]]) -> str:
@@ -422,7 +374,7 @@ class Checkpoints(Observer):
                 except OSError:
                     shutil.copy2(self.path, link)
                 os.replace(link, prev)
-            _replace(tmp, self.path)
+            replace_file(tmp, self.path)
         except OSError as err:
             tmp.unlink(missing_ok=True)
             raise OutputError(
@@ -444,26 +396,35 @@ class Checkpoints(Observer):
 
 
 class ProgressBar(Observer):
-    """A tqdm progress bar per run (steps; updated at the checks)."""
+    """A tqdm progress bar per run (steps; updated at the checks).
+
+    The bar opens at the run's first check, with the steps done before it as its start: its
+    rate and ETA count from there, so the time numba takes to compile the kernels in the
+    first steps of a first run is not read as the speed of the run.
+    """
 
     def __init__(self) -> None:
-        """No bar until a run starts."""
-        self._bar = None
+        """No bar until a run reaches its first check."""
+        self._bar: Any = None
         self._shown = 0
         self._first = 0
+        self._total: int | None = None
 
     def run_started(self, solver: ExplicitSolver, total_steps: int | None) -> None:
-        """Open the bar."""
-        from tqdm.auto import tqdm
-
-        self._bar = tqdm(total=total_steps, unit="step", desc="discrete", mininterval=0.5)
+        """Note where the run starts; the bar opens at its first check."""
         self._first = solver.steps
+        self._total = total_steps
         self._shown = 0
 
     def checked(self, solver: ExplicitSolver, ledger: EnergyLedger) -> None:
-        """Advance the bar to the steps done."""
+        """Open the bar at the run's first check, then advance it to the steps done."""
         done = solver.steps - self._first
-        if self._bar is not None:
+        if self._bar is None:
+            from tqdm.auto import tqdm
+
+            self._bar = tqdm(total=self._total, initial=done, unit="step", desc="discrete",
+                             mininterval=0.5)
+        else:
             self._bar.update(done - self._shown)
         self._shown = done
 

@@ -578,6 +578,11 @@ class ExplicitSolver:
         return result
 
     @property
+    def results(self) -> list[RunResult]:
+        """The results of the runs that ended, in order (their histories: the phase's)."""
+        return [result for _, result in self._done]
+
+    @property
     def phase(self) -> str:
         """Name of the run in progress, or of the last run ("" before the first)."""
         if self._run is not None:
