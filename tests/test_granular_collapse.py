@@ -82,3 +82,15 @@ def test_granular_collapse_against_experiments(case, tmp_path, aspect):
     committed = _committed(f"r1_a{aspect:g}")["deposit"]
     assert d["runout_m"] == pytest.approx(committed["runout_m"], rel=1e-9)
     assert d["height_m"] == pytest.approx(committed["height_m"], rel=1e-9)
+
+
+@pytest.mark.slow
+def test_granular_collapse_mesh_sensitivity(case, tmp_path):
+    """a = 0.5 with grains of L0 / 10 and L0 / 20: run-out within 10 % of each other (the
+    mesh bar of docs/hybrid.md), the height H0 on both."""
+    mod = case("granular_collapse")
+    runs = [mod.main(out=tmp_path / f"nx{n}", nx=n, progress=False)["deposit"] for n in (10, 20)]
+    coarse, fine = (r["runout_m"] for r in runs)
+    assert abs(coarse - fine) / fine < 0.10
+    for r in runs:
+        assert r["height_over_H0"] == pytest.approx(1.0, rel=0.01)
