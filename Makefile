@@ -79,6 +79,15 @@ docs: setup
 	cp $(DOCS_RUN)/h3/wedge.png docs/figures/hybrid/h3_wedge.png
 	cp $(DOCS_RUN)/h3/final.png docs/figures/hybrid/h3_final.png
 	cp $(DOCS_RUN)/d10/failures.png docs/figures/hybrid/d10_toppling_failures.png
+	for a in 0.5 1 2; do $(PY) -m hybrid run cases/granular_collapse.py --out $(DOCS_RUN)/r1_a$$a \
+	  --set aspect=$$a --set progress=false; done
+	for n in 10 30; do $(PY) -m hybrid run cases/granular_collapse.py \
+	  --out $(DOCS_RUN)/r1_a0.5_nx$$n --set nx=$$n --set progress=false; done
+	for r in a0.5 a1 a2 a0.5_nx10 a0.5_nx30; do \
+	  cp $(DOCS_RUN)/r1_$$r/summary.json docs/summaries/r1_$$r.json; done
+	$(PY) -c "import json, runpy; f = runpy.run_path('cases/granular_collapse.py')['plot_deposits']; \
+	  f('docs/figures/hybrid/r1_deposits.png', [json.load(open(f'docs/summaries/r1_a{a}.json')) \
+	  for a in ('0.5', '1', '2')])"
 
 bench: setup
 	$(PY) -m hybrid bench --json results/bench.json

@@ -46,6 +46,24 @@ def _cars_stage(lift: int) -> dict[str, Any]:
     return carsington()["construction"]["stages"][lift - 1]
 
 
+def r1(run: str) -> dict[str, Any]:
+    return _json(f"docs/summaries/r1_{run}.json")
+
+
+def _r1_row(run: str) -> list[float]:
+    s = r1(run)
+    d, r = s["deposit"], s["deposit"]["references"]
+    return [s["parameters"]["aspect"], d["normalised_runout"],
+            *[v for v in (r["rods2015_runout"], r["lube2005_runout"]) if v is not None],
+            d["height_over_H0"], r["rods2015_height"], r["lube2005_height"],
+            s["discrete"]["column_elements"], s["discrete"]["time_s"]]
+
+
+def _r1_gap(run: str) -> float:
+    d = r1(run)["deposit"]
+    return 100.0 * (1.0 - d["normalised_runout"] / d["references"]["rods2015_runout"])
+
+
 def verify(case: str) -> dict[str, Any]:
     """The case's entry of the committed verification results, rows by name."""
     (entry,) = [c for c in _json("docs/verification/results.json")["cases"] if c["id"] == case]
@@ -237,6 +255,34 @@ QUOTES: list[Quote] = [
               *{verify(c)["stats"]["cells"] for c in ("C5", "C6", "C6-psi0")},
               -pct(row("C6-psi0", "limit_pressure"),
                    row("C6-psi0", "limit_pressure", "reference"))]),
+    # --- docs/hybrid.md: R1 -----------------------------------------------------------------
+    ("docs/hybrid.md", "aluminium bars, L0 = {} m (H0 = {} m at a = {}), phi = {} deg, c = 0, "
+     "density {} t/m3, E = {} kPa, nu = {}",
+     lambda: [r1("a0.5")["parameters"][k] for k in ("length",)]
+     + [r1("a0.5")["parameters"]["length"] * r1("a0.5")["parameters"]["aspect"],
+        r1("a0.5")["parameters"]["aspect"]]
+     + [r1("a0.5")["parameters"][k] for k in ("phi", "density", "E", "nu")]),
+    ("docs/hybrid.md", "unstructured triangles of size L0 / {} (random",
+     lambda: [r1("a0.5")["parameters"]["nx"]]),
+    ("docs/hybrid.md", "normal contact damping ratio zeta = {} (restitution {}:",
+     lambda: [z := r1("a0.5")["parameters"]["contact_damping"],
+              math.exp(-math.pi * z / math.sqrt(1.0 - z * z))]),
+    ("docs/hybrid.md", "`make docs`), grains of L0 / {}:", lambda: [r1("a1")["parameters"]["nx"]]),
+    ("docs/hybrid.md", "| {} | {} | - | {} | {} | {} | {} | {} | {} |", lambda: _r1_row("a0.5")),
+    ("docs/hybrid.md", "| {} | {} | {} | {} | {} | {} | {} | {} | {} |", lambda: _r1_row("a1")),
+    ("docs/hybrid.md", "| {} | {} | {} | - | {} | {} | {} | {} | {} |", lambda: _r1_row("a2")),
+    ("docs/hybrid.md", "not from a statement of the paper; the computed run-out is {} m.",
+     lambda: [r1("a0.5")["deposit"]["runout_m"]]),
+    ("docs/hybrid.md", "At a = 1 and 2 the grains run out {} % and {} % less far than the rods "
+     "and keep more of the column's height ({} and {} H0 against {} and {}):",
+     lambda: [_r1_gap("a1"), _r1_gap("a2"), r1("a1")["deposit"]["height_over_H0"],
+              r1("a2")["deposit"]["height_over_H0"],
+              r1("a1")["deposit"]["references"]["rods2015_height"],
+              r1("a2")["deposit"]["references"]["rods2015_height"]]),
+    ("docs/hybrid.md", "(grains of L0 / {}, L0 / {}, L0 / {}): run-out {}, {} and {} m;",
+     lambda: [r1("a0.5_nx10")["parameters"]["nx"], r1("a0.5")["parameters"]["nx"],
+              r1("a0.5_nx30")["parameters"]["nx"], r1("a0.5_nx10")["deposit"]["runout_m"],
+              r1("a0.5")["deposit"]["runout_m"], r1("a0.5_nx30")["deposit"]["runout_m"]]),
 ]
 
 

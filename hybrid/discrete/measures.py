@@ -1,10 +1,11 @@
-"""Measures of a discrete run: slip on its interfaces, the slip surface, a slope's run-out.
+"""Measures of a discrete run: interface slip, slip surface, run-out of a slope or a deposit.
 
 Units: m. An interface is the edge two elements shared at the start; its two node pairs
 coincided then, so their separation is the slip (sliding and opening together).
 :class:`SlipSurface` gathers the slip-surface measures of a run; :class:`SlopeMarks` picks a
 slope's crest and toe at the start of a run and measures how far they moved at its end;
-:class:`FootingMarks` does the same for a footing (settlement) and the ground beside it (heave).
+:class:`FootingMarks` does the same for a footing (settlement) and the ground beside it (heave);
+:func:`deposit` measures where a mass that spread over a floor came to rest.
 """
 
 from __future__ import annotations
@@ -18,7 +19,7 @@ import numpy as np
 from hybrid.discrete.state import DiscreteState
 
 __all__ = ["interface_slip", "slip_surface", "slip_trace", "slipped_interfaces", "SlipSurface",
-           "SlopeMarks", "SlopeMovement", "FootingMarks"]
+           "SlopeMarks", "SlopeMovement", "FootingMarks", "Deposit", "deposit"]
 
 
 def interface_slip(state: DiscreteState) -> np.ndarray:
@@ -223,3 +224,59 @@ class FootingMarks:
     def heave(self, state: DiscreteState) -> float:
         """Largest upward movement of the ground surface beside the footing [m]."""
         return float(np.max(state.x[self.surface, 1] - state.x_ref[self.surface, 1]))
+
+
+class Deposit(NamedTuple):
+    """Where a mass spread from a back wall came to rest (:func:`deposit`).
+
+    Attributes:
+        runout: x [m] of the far end of the deposit, counted from the back wall.
+        height: highest point [m] of the deposit above the floor.
+        elements: (n,) indices of the elements in the deposit.
+        detached: number of elements beyond the deposit's far end (not counted in it).
+        profile: (m, 2) surface [m] of the deposit: bin centres x - wall and the highest node
+            in each bin of width ``bin_width`` (0 where no node lies in the bin).
+    """
+
+    runout: float
+    height: float
+    elements: np.ndarray
+    detached: int
+    profile: np.ndarray
+
+
+def deposit(state: DiscreteState, elements: np.ndarray, *, wall_x: float = 0.0,
+            floor_y: float = 0.0, bin_width: float) -> Deposit:
+    """The deposit of ``elements`` (an (n_elements,) mask) spread from a wall at ``wall_x``.
+
+    The deposit is the run of elements whose x-extents overlap or touch without a gap, from
+    the wall outwards: the union of the elements' x-extents, followed from the element nearest
+    the wall until the first stretch of bare floor. An element flung beyond such a stretch is
+    not part of it (``detached``), however far it went: the run-out is the far end of the
+    continuous mass.
+    Distances count from the wall (x - ``wall_x``) and the floor (y - ``floor_y``) [m].
+    """
+    idx = np.flatnonzero(np.asarray(elements, dtype=bool))
+    if idx.size == 0:
+        raise ValueError("deposit: no element in the mask (check the element set)")
+    if not bin_width > 0.0:
+        raise ValueError(f"deposit: bin_width = {bin_width!r} must be > 0 m")
+    xe = state.x[state.element_nodes[idx], 0] - wall_x
+    lo, hi = xe.min(axis=1), xe.max(axis=1)
+    order = np.argsort(lo, kind="stable")
+    reach = float(lo[order[0]])  # the deposit starts at the element nearest the wall
+    for k in order:
+        if lo[k] > reach:
+            break
+        reach = max(reach, float(hi[k]))
+    inside = idx[lo <= reach]
+    nodes = np.unique(state.element_nodes[inside])
+    x = state.x[nodes, 0] - wall_x
+    y = state.x[nodes, 1] - floor_y
+    n_bins = max(int(np.ceil(reach / bin_width)), 1)
+    b = np.clip((x / bin_width).astype(np.int64), 0, n_bins - 1)
+    top = np.zeros(n_bins)
+    np.maximum.at(top, b, np.maximum(y, 0.0))
+    centres = (np.arange(n_bins) + 0.5) * bin_width
+    return Deposit(reach, float(y.max()), inside, int(idx.size - inside.size),
+                   np.column_stack([centres, top]))

@@ -1,0 +1,96 @@
+"""R1, the plane granular column collapse: a column of elastic grains with frictional, cohesionless
+bonds released from its gravity state spreads to rest; run-out and height against experiments.
+
+Fast: coarse runs (8 grains along the column) keep energy bounded, elements and mass, reach
+rest, and spread further for a taller column; the deposit measure on a hand-made state. Slow:
+the shipped mesh at a = 0.5, 1 and 2 against the aluminium-rod laws (arXiv:1512.05180), with
+the committed figures of docs/hybrid.md.
+"""
+
+import json
+
+import numpy as np
+import pytest
+from conftest import ROOT, assert_bars
+
+from hybrid.discrete.measures import deposit
+
+
+def test_deposit_counts_the_continuous_mass_only():
+    """Three unit squares: two touching at x = 0..2, one alone at 3..4 (a flung grain). The
+    run-out is 2 (the far end of the continuous mass), the flung one is detached; the height is
+    the highest node of the deposit; the profile takes the highest node per bin."""
+    from hybrid.discrete.state import from_mesh
+    from hybrid.materials import Material
+
+    sq = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float)
+    x = np.vstack([sq, sq + [1.0, 0.0], sq + [3.0, 0.0]])
+    x[10:12, 1] = 2.0  # the flung grain is taller: it must not set the height
+    x[2, 1] = 1.5  # the first square's top-right corner raised, at x = 1 (second bin)
+    grain = Material(name="grain", E=1000.0, nu=0.3, density=1.0)
+    st = from_mesh(x, np.arange(12).reshape(3, 4), np.zeros(3, np.int32), [grain])
+    dep = deposit(st, np.ones(3, bool), bin_width=1.0)
+    assert dep.runout == pytest.approx(2.0, abs=1e-12)
+    assert dep.detached == 1 and list(dep.elements) == [0, 1]
+    assert dep.height == pytest.approx(1.5, abs=1e-12)
+    assert dep.profile[:, 1] == pytest.approx([1.0, 1.5], abs=1e-12)  # bins [0,1), [1,2]
+    with pytest.raises(ValueError, match="no element"):
+        deposit(st, np.zeros(3, bool), bin_width=1.0)
+
+
+def test_granular_collapse_coarse(case, tmp_path):
+    """Coarse grains (L0 / 8): a = 0.5 and a = 1.5 reach rest with bounded energy and their
+    elements and mass; the taller column runs out further (normalised by L0) and keeps less of
+    its height, as in every experiment."""
+    mod = case("granular_collapse")
+    runs = {a: mod.main(out=tmp_path / f"a{a}", aspect=a, nx=8, progress=False)
+            for a in (0.5, 1.5)}
+    for s in runs.values():
+        assert_bars(s)
+        assert s["discrete"]["stop"] == "rest"
+        assert s["discrete"]["interfaces_failed"] > 0
+        assert s["deposit"]["runout_m"] > s["parameters"]["length"]  # it spread
+    low, tall = runs[0.5]["deposit"], runs[1.5]["deposit"]
+    assert tall["normalised_runout"] > low["normalised_runout"]
+    assert tall["height_over_H0"] < low["height_over_H0"]
+
+
+def _committed(name: str) -> dict:
+    return json.loads((ROOT / "docs" / "summaries" / f"{name}.json").read_text())
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("aspect", [0.5, 1.0, 2.0])
+def test_granular_collapse_against_experiments(case, tmp_path, aspect):
+    """The shipped mesh (L0 / 20). What is measured, against the 15 % bar:
+
+    * a = 0.5: the final height stays H0, as the rods keep it for a < 0.65 (within the bar);
+    * a = 1 and 2: the run-out falls short of the rod laws by more than the bar, and the
+      deposit keeps more of its height (the measured gap, documented in docs/hybrid.md);
+
+    and the run reproduces the committed figures quoted in docs/hybrid.md."""
+    s = case("granular_collapse").main(out=tmp_path, aspect=aspect, progress=False)
+    assert_bars(s)
+    d = s["deposit"]
+    refs = d["references"]
+    if refs["rods2015_runout"] is None:  # a <= 0.65: H_inf = H0
+        assert d["height_over_H0"] == pytest.approx(refs["rods2015_height"], rel=0.15)
+    else:
+        gap = 1.0 - d["normalised_runout"] / refs["rods2015_runout"]
+        assert gap > 0.15, "the run-out now meets the rod law: update docs/hybrid.md"
+        assert d["height_over_H0"] > 1.15 * refs["rods2015_height"]
+    committed = _committed(f"r1_a{aspect:g}")["deposit"]
+    assert d["runout_m"] == pytest.approx(committed["runout_m"], rel=1e-9)
+    assert d["height_m"] == pytest.approx(committed["height_m"], rel=1e-9)
+
+
+@pytest.mark.slow
+def test_granular_collapse_mesh_sensitivity(case, tmp_path):
+    """a = 0.5 with grains of L0 / 10 and L0 / 20: run-out within 10 % of each other (the
+    mesh bar of docs/hybrid.md), the height H0 on both."""
+    mod = case("granular_collapse")
+    runs = [mod.main(out=tmp_path / f"nx{n}", nx=n, progress=False)["deposit"] for n in (10, 20)]
+    coarse, fine = (r["runout_m"] for r in runs)
+    assert abs(coarse - fine) / fine < 0.10
+    for r in runs:
+        assert r["height_over_H0"] == pytest.approx(1.0, rel=0.01)
