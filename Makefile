@@ -61,10 +61,10 @@ verify: setup
 # docs quote; tests/test_docs_numbers.py checks the quotes) and figures (docs/figures/hybrid/)
 DOCS_RUN := results/docs
 docs: setup
-	$(PY) -m hybrid run cases/footing_failure.py --out $(DOCS_RUN)/h2 --set progress=false
-	$(PY) -m hybrid run cases/retaining_wall_collapse.py --out $(DOCS_RUN)/h3 --set progress=false
-	$(PY) -m hybrid run cases/toppling.py --out $(DOCS_RUN)/d10 --set progress=false
-	$(PY) -m hybrid run cases/carsington.py --out $(DOCS_RUN)/carsington --set progress=false
+	$(PY) -m hybrid run cases/footing_failure.py --out $(DOCS_RUN)/h2 --set progress=false --overwrite
+	$(PY) -m hybrid run cases/retaining_wall_collapse.py --out $(DOCS_RUN)/h3 --set progress=false --overwrite
+	$(PY) -m hybrid run cases/toppling.py --out $(DOCS_RUN)/d10 --set progress=false --overwrite
+	$(PY) -m hybrid run cases/carsington.py --out $(DOCS_RUN)/carsington --set progress=false --overwrite
 	mkdir -p docs/summaries docs/figures/hybrid docs/figures/carsington
 	for c in h2 h3 d10 carsington; do cp $(DOCS_RUN)/$$c/summary.json docs/summaries/$$c.json; done
 	for f in end_of_construction_yielded end_of_construction_sigma_yy \
@@ -80,9 +80,9 @@ docs: setup
 	cp $(DOCS_RUN)/h3/final.png docs/figures/hybrid/h3_final.png
 	cp $(DOCS_RUN)/d10/failures.png docs/figures/hybrid/d10_toppling_failures.png
 	for a in 0.5 1 2; do $(PY) -m hybrid run cases/granular_collapse.py --out $(DOCS_RUN)/r1_a$$a \
-	  --set aspect=$$a --set progress=false; done
+	  --set aspect=$$a --set progress=false --overwrite; done
 	for n in 10 30; do $(PY) -m hybrid run cases/granular_collapse.py \
-	  --out $(DOCS_RUN)/r1_a0.5_nx$$n --set nx=$$n --set progress=false; done
+	  --out $(DOCS_RUN)/r1_a0.5_nx$$n --set nx=$$n --set progress=false --overwrite; done
 	for r in a0.5 a1 a2 a0.5_nx10 a0.5_nx30; do \
 	  cp $(DOCS_RUN)/r1_$$r/summary.json docs/summaries/r1_$$r.json; done
 	$(PY) -c "import json, runpy; f = runpy.run_path('cases/granular_collapse.py')['plot_deposits']; \
