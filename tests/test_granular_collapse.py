@@ -65,20 +65,18 @@ def test_granular_collapse_against_experiments(case, tmp_path, aspect):
     """The shipped mesh (L0 / 20). What is measured, against the 15 % bar:
 
     * a = 0.5: the final height stays H0, as the rods keep it for a < 0.65 (within the bar);
-    * a = 1 and 2: the run-out falls short of the rod laws by more than the bar, and the
-      deposit keeps more of its height (the measured gap, documented in docs/hybrid.md);
+    * a = 1 and 2: the bar is not met (the run-out falls about a third short of the rod laws
+      and the deposit keeps more of its height): the measured gap is reported in
+      docs/hybrid.md, not asserted here;
 
-    and the run reproduces the committed figures quoted in docs/hybrid.md."""
+    and the run reproduces the committed figures quoted there (the same code gives the same
+    deposit bit for bit: rel 1e-9)."""
     s = case("granular_collapse").main(out=tmp_path, aspect=aspect, progress=False)
     assert_bars(s)
     d = s["deposit"]
     refs = d["references"]
     if refs["rods2015_runout"] is None:  # a <= 0.65: H_inf = H0
         assert d["height_over_H0"] == pytest.approx(refs["rods2015_height"], rel=0.15)
-    else:
-        gap = 1.0 - d["normalised_runout"] / refs["rods2015_runout"]
-        assert gap > 0.15, "the run-out now meets the rod law: update docs/hybrid.md"
-        assert d["height_over_H0"] > 1.15 * refs["rods2015_height"]
     committed = _committed(f"r1_a{aspect:g}")["deposit"]
     assert d["runout_m"] == pytest.approx(committed["runout_m"], rel=1e-9)
     assert d["height_m"] == pytest.approx(committed["height_m"], rel=1e-9)
