@@ -60,7 +60,7 @@ from hybrid.case import uses_defaults
 from hybrid.continuum import ContinuumState, NewtonOptions, PlasticSolver
 from hybrid.continuum.limit_equilibrium import bishop_circle
 from hybrid.continuum.probe import evaluate
-from hybrid.continuum.staging import Construction, build_in_lifts, split_into_lifts
+from hybrid.continuum.staging import Construction, build_in_lifts, lift_groups, split_into_lifts
 from hybrid.continuum.strength_reduction import StrengthSearch
 from hybrid.discrete.energy import conservation_checks, energy_peak_ratio
 from hybrid.discrete.figures import plot_configuration
@@ -68,7 +68,7 @@ from hybrid.discrete.integrate import stable_time_step
 from hybrid.discrete.measures import SlipSurface, SlopeMarks
 from hybrid.discrete.runs import run_to_rest
 from hybrid.discrete.solver import RunOptions
-from hybrid.figures import Band, Column, plot_level_history, staged_figures
+from hybrid.figures import Band, Column, engineering_figures, plot_level_history, staged_figures
 from hybrid.geometry import build_mesh, load_mesh_script
 from hybrid.handover import Region, element_groups, from_construction
 from hybrid.io import CaseSummary, Check, write_continuum_xdmf
@@ -246,7 +246,13 @@ def continuum_phase(p: Parameters, out: Path) -> ContinuumPhase:
         solver, mesh, tops, g.foundation_level, steps=p.ramp_steps,
         safety=search if p.safety else None, safety_every_lift=p.safety_every_lift,
         unit="m_OD", monitor=lambda s: {"node_A_dx_mm": 1e3 * float(evaluate(s.u, node_a)[0, 0])})
-    stages, safety, state = built.stages, built.safety, solver.state()
+    stages, safety = built.stages, built.safety
+    if built.before_collapse is not None:  # figures and figures' numbers: the last equilibrium
+        solver.restore(built.before_collapse)
+    state = solver.state()
+    if built.before_collapse is not None:  # the collapsing lift is not in place there
+        state.active &= ~np.isin(np.arange(base_mesh.num_owned_cells), np.concatenate(
+            [mesh.cells(name) for name in lift_groups(mesh, stages[-1]["lift"])]))
     construction_time = time.perf_counter() - start - built.safety_wall_time
     done = [st for st in stages if st["completed"]]
     carried = done[-1]["top_m_OD"] if done else g.foundation_level
@@ -268,6 +274,23 @@ def continuum_phase(p: Parameters, out: Path) -> ContinuumPhase:
         label=f"this analysis, node A ({p.node_a_x:g} m, {p.node_a_y:g} m OD)",
         xlabel="horizontal displacement of the core at node A, |u_x| [mm]",
         ylabel="fill level [m OD]", title="Core displacement against fill level"))
+    when = f"fill at {carried:g} m OD"
+    paths += engineering_figures(out, state, prefix="end_of_construction_", when=when,
+                                 window=window, elevation_label="elevation [m OD]")
+    if safety is not None and circle is not None:
+        arc = circle.arc()
+
+        def bishop(ax: Any) -> None:
+            ax.plot(arc[:, 0], arc[:, 1], "r--", lw=1.5,
+                    label=f"critical circle (Bishop), F = {circle.factor:.3f}")
+            ax.legend(loc="upper left", fontsize=8)
+
+        confirmed = safety.mechanism_confirmed  # else the last increment shows no mechanism
+        paths += engineering_figures(
+            out, safety.state, prefix="fos_", window=window, overlay=bishop,
+            when=f"F = {safety.factor:.3f}" + ("" if confirmed else " (no mechanism found)"),
+            increment=safety.mechanism if confirmed else None,
+            elevation_label="elevation [m OD]")
     write_continuum_xdmf(out / "continuum.xdmf", state)
 
     def yielded(s: ContinuumState) -> dict[str, float]:
@@ -375,7 +398,7 @@ def discrete_phase(phase: ContinuumPhase, p: Parameters, out: Path) -> dict[str,
     surface = SlipSurface.of(disc, p.slip_min,
                              {"yellow_clay": group == "yellow_clay", "boot": boot})
     paths = [*run.figures, plot_configuration(
-        out / "discrete_final.png", disc, window=window, lines=surface.lines(disc),
+        out / "discrete_final.png", disc, window=window, lines=surface.lines(disc), outline=True,
         title=f"t = {res.time:.3g} s ({res.stop_reason})")]
     through, published = surface.through, uses_defaults(p, PUBLISHED_PROBLEM)
     u, moved = disc.x - disc.x_ref, slope.movement(disc)

@@ -434,7 +434,7 @@ def plot_deformed_mesh(path: str | Path, state: ContinuumState, *,
                                      edgecolors="k", linewidths=0.3,
                                      label=f"deformed mesh (x {scale:g})"))
     _crop(ax, window)
-    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=2, fontsize=8)
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2, fontsize=8)
     ax.set_title(f"{title}: displacements x {scale:g} (largest |u| = {largest:.3g} m)")
     return save_figure(fig, path)
 
@@ -493,7 +493,7 @@ def plot_plastic_points(path: str | Path, state: ContinuumState, *,
         ax.plot(xy[pick, 0], xy[pick, 1], "s", ms=size, mfc=face, mec="k", mew=0.5 * size / 3,
                 label=f"{name} point ({int(pick.sum())})")
     _crop(ax, window)
-    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=2, fontsize=8)
+    ax.legend(loc="upper center", bbox_to_anchor=(0.5, -0.16), ncol=2, fontsize=8)
     ax.set_title(f"{title}: {', '.join(counts)}")
     return save_figure(fig, path)
 
