@@ -40,7 +40,7 @@ from dolfinx.fem import petsc as fem_petsc
 from mpi4py import MPI
 from petsc4py import PETSc
 
-from hybrid.continuum.analysis import Analysis, largest_nodal_norm
+from hybrid.continuum.analysis import Analysis
 from hybrid.continuum.fields import surface_load
 
 if TYPE_CHECKING:
@@ -105,6 +105,7 @@ class ControlledPath:
         # the first iterate of the next one only if nothing else moved the solver since
         self._last: tuple[np.ndarray, float, float] | None = None
         self._last_count = -1
+        self._d_lam = 0.0  # the load-factor increment of the line search's last move
 
     # --- the controlled measure ------------------------------------------------------------
     def measure(self, values: np.ndarray) -> float:
@@ -176,19 +177,9 @@ class ControlledPath:
                 if not math.isfinite(cb) or cb == 0.0:
                     return False, residuals, d_lam  # the load does not move the measure
                 dd_lam = (self.measure(a) - gap) / cb
-                step_u = -a + dd_lam * b
-                base_u, base_lam = du.copy(), d_lam
-                step = 1.0
-                for halvings in range(opts.line_search + 1):
-                    du[:] = base_u + step * step_u
-                    d_lam = base_lam + step * dd_lam
-                    s._lam.value = lam0 + d_lam
-                    s._update_stress()
-                    trial = s._residual()
-                    if trial <= opts.residual_growth * norm or halvings == opts.line_search:
-                        break
-                    step *= 0.5
-                norm = trial
+                move = self._joint(du.copy(), -a + dd_lam * b, lam0, d_lam, dd_lam)
+                norm = s._line_search(move, norm)
+                d_lam = self._d_lam
                 gap = self.measure(du) - ds
                 s.iterations_total += 1
             residuals.append(norm)
@@ -196,6 +187,21 @@ class ControlledPath:
                     residuals, d_lam)
         finally:
             f_ext.destroy()
+
+    def _joint(self, du: np.ndarray, direction: np.ndarray, lam0: float, d_lam: float,
+               change: float) -> Callable[[float], None]:
+        """The line search's joint move of Du and of the load factor.
+
+        Du + step x ``direction`` and d lambda + step x ``change`` (kept in ``_d_lam``).
+        """
+        s = self.solver
+        along = s._along(du, direction)
+
+        def move(step: float) -> None:
+            along(step)
+            self._d_lam = d_lam + step * change
+            s._lam.value = lam0 + self._d_lam
+        return move
 
     def step(self, ds: float) -> StepRecord | None:
         """Advance the controlled measure by ``ds`` [m].
@@ -210,9 +216,7 @@ class ControlledPath:
             du, dl, ds_prev = self._last
             guess = (du * (ds / ds_prev), dl * (ds / ds_prev))
         ok, residuals, d_lam = self._newton(ds, guess)
-        moved = largest_nodal_norm(s.Du.x.array, s.disc.V.mesh.comm)
-        if ok and moved > s.max_displacement:
-            ok = False  # a mechanism of arbitrary amplitude, not a small-strain state
+        ok = ok and s._small_strain()
         s.wall_time += time.perf_counter() - start
         if not ok:
             s._lam.value = s.load_factor

@@ -318,19 +318,42 @@ class PlasticSolver:
             if self.ksp.getConvergedReason() < 0:
                 return False, residuals
             self.delta.x.scatter_forward()
-            step = 1.0
-            base = self.Du.x.array.copy()
-            for halvings in range(opts.line_search + 1):
-                self.Du.x.array[:] = base - step * self.delta.x.array
-                self._update_stress()
-                trial = self._residual()
-                if trial <= opts.residual_growth * norm or halvings == opts.line_search:
-                    break
-                step *= 0.5
-            norm = trial
+            norm = self._line_search(self._along(self.Du.x.array.copy(), -self.delta.x.array),
+                                     norm)
             self.iterations_total += 1
         residuals.append(norm)
         return norm <= opts.tolerance * scale, residuals
+
+    def _small_strain(self) -> bool:
+        """Whether the increment moved no node more than ``max_displacement`` (collective).
+
+        Beyond it the increment is a mechanism of arbitrary amplitude, not a small-strain state.
+        """
+        moved = largest_nodal_norm(self.Du.x.array, self.disc.V.mesh.comm)
+        return moved <= self.max_displacement
+
+    def _along(self, base: np.ndarray, direction: np.ndarray) -> Callable[[float], None]:
+        """The move Du = base + step x direction of a line search."""
+        def move(step: float) -> None:
+            self.Du.x.array[:] = base + step * direction
+        return move
+
+    def _line_search(self, move: Callable[[float], None], norm: float) -> float:
+        """The safeguarded Newton step (module docstring); the residual norm of the step taken.
+
+        ``move(step)`` for step = 1, 1/2, ... until the residual norm is at most
+        ``residual_growth`` x ``norm`` or after ``line_search`` halvings.
+        """
+        opts = self.options
+        step = 1.0
+        for halvings in range(opts.line_search + 1):
+            move(step)
+            self._update_stress()
+            trial = self._residual()
+            if trial <= opts.residual_growth * norm or halvings == opts.line_search:
+                break
+            step *= 0.5
+        return trial
 
     def _commit(self, kind: str | None, size: float, iterations: int,
                 residuals: list[float], d_lambda: float, d_gravity: float) -> StepRecord:
@@ -375,9 +398,7 @@ class PlasticSolver:
         guess = (prev[0] * (size / prev[2]) if prev is not None and kind == prev[1]
                  else None)
         ok, residuals = self._newton(d_lambda, d_gravity, guess)
-        moved = largest_nodal_norm(self.Du.x.array, self.disc.V.mesh.comm)
-        if ok and moved > self.max_displacement:
-            ok = False  # a mechanism of arbitrary amplitude, not a small-strain state
+        ok = ok and self._small_strain()
         self.wall_time += time.perf_counter() - start
         if not ok:
             self._lam.value = self.load_factor
