@@ -192,7 +192,7 @@ def main(out: str | Path = "results/granular_collapse", **overrides) -> CaseSumm
     summary.write(out / "summary.json")
     plot_energy(out / "energy.png", h)
     plot_configuration(out / "final.png", disc, window=window, outline=True,
-                       title=f"At rest (t = {res.time:.3g} s): run-out {dep.runout:.3g} m, "
+                       title=f"{res.ending}: run-out {dep.runout:.3g} m, "
                              f"height {dep.height:.3g} m")
     return summary
 

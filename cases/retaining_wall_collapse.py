@@ -239,7 +239,7 @@ def main(out: str | Path = "results/retaining_wall_collapse", **overrides) -> Ca
     summary.write(out / "summary.json")
     plot_energy(out / "energy.png", h)
     plot_configuration(out / "final.png", disc, window=window, outline=True,
-                       title=f"At rest (t = {res.time:.3g} s): run-out {-toe:.3g} m")
+                       title=f"{res.ending}: run-out {-toe:.3g} m")
     return summary
 
 

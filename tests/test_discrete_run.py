@@ -237,3 +237,17 @@ def test_fresh_compile_and_cached_kernels_agree_bit_for_bit(tmp_path):
     out = [subprocess.run([sys.executable, "-c", _REPRO_SCRIPT], env=env, check=True,
                           capture_output=True, text=True).stdout.strip() for _ in range(2)]
     assert out[0] == out[1] and len(out[0]) == 40
+
+
+def test_a_run_says_at_rest_only_when_it_stopped_at_rest():
+    """Figure titles read RunResult.ending: a run cut by its step or time limit is not called
+    "At rest"."""
+    from hybrid.discrete.solver import RunResult
+
+    def result(reason: str) -> RunResult:
+        return RunResult(stop_reason=reason, steps=10, time=1.25, dt=0.1, wall_time=0.0,
+                         element_steps_per_s=0.0, n_split=0)
+
+    assert result("rest").ending == "At rest (t = 1.25 s)"
+    assert result("steps").ending == "Not at rest: stopped by the step limit (t = 1.25 s)"
+    assert result("time").ending == "Not at rest: stopped by the time limit (t = 1.25 s)"

@@ -165,6 +165,20 @@ class RunResult:
     history: dict[str, np.ndarray] = field(default_factory=dict)  # energy ledger per check
     phase: str = ""  # the run's name in the outputs
 
+    @property
+    def ending(self) -> str:
+        """How the run ended, for figure titles.
+
+        "At rest (t = 1.1 s)" only when it stopped at rest, else "Not at rest: stopped by
+        <reason> (t = ... s)".
+        """
+        at = f"t = {self.time:.3g} s"
+        if self.stop_reason == "rest":
+            return f"At rest ({at})"
+        reason = {"time": "the time limit", "steps": "the step limit"}.get(self.stop_reason,
+                                                                          self.stop_reason)
+        return f"Not at rest: stopped by {reason} ({at})"
+
 
 _RESULT_NUMBERS = ("steps", "time", "dt", "wall_time", "element_steps_per_s", "n_split")
 
