@@ -364,3 +364,22 @@ def test_a_cap_below_the_residual_plastic_strain_is_warned():
         warnings.simplefilter("error")
         ExplicitSolver(st, RunOptions(plastic_strain_cap=0.05))
         ExplicitSolver(st, RunOptions())
+
+
+def test_elements_above_the_snap_back_size_are_warned():
+    """h_max = u_r G / (c_p cos phi_p - c_r cos phi_r): with G = 1e4 / 2.6 kPa, u_r = 0.01 m
+    and c 20 -> 5 kPa (phi = 0) it is 2.564 m; a 3 m element is warned, a 2 m one is not."""
+    import warnings
+
+    from hybrid.constitutive.softening import snap_back_length, warn_snap_back
+    from hybrid.constitutive.table import kernel_table
+
+    clay = Material(name="clay", E=1.0e4, nu=0.3, cohesion=20.0, plastic=True,
+                    residual=Strength(cohesion=5.0), softening_displacement=0.01)
+    table = kernel_table([clay])[0]
+    assert snap_back_length(table[0]) == pytest.approx(0.01 * 1.0e4 / 2.6 / 15.0, rel=1e-12)
+    with pytest.warns(UserWarning, match="1 elements of softening material 0 are larger"):
+        warn_snap_back(np.array([2.0, 3.0]), np.array([0, 0]), table)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        warn_snap_back(np.array([2.0, 2.5]), np.array([0, 0]), table)

@@ -41,6 +41,7 @@ along the one softening variable) by a central difference of the closed-form ret
 from __future__ import annotations
 
 import math
+import warnings
 
 import numba
 import numpy as np
@@ -61,6 +62,7 @@ from hybrid.constitutive.table import (
     RESIDUAL_PHI,
     RESIDUAL_PSI,
     RESIDUAL_TENSION,
+    SHEAR_MODULUS,
     SIN_PHI,
     SIN_PSI,
     SOFTENING_DISPLACEMENT,
@@ -68,7 +70,8 @@ from hybrid.constitutive.table import (
 )
 
 __all__ = ["characteristic_length", "softening_fraction", "softening_return", "strength_at",
-           "add_softening_tangent", "residual_plastic_strain"]
+           "add_softening_tangent", "residual_plastic_strain", "snap_back_length",
+           "warn_snap_back"]
 
 _SQRT3 = math.sqrt(3.0)
 
@@ -85,6 +88,41 @@ def characteristic_length(x: np.ndarray, cells: np.ndarray) -> np.ndarray:
     area = 0.5 * np.abs(np.sum(px * np.roll(py, -1, axis=1) - np.roll(px, -1, axis=1) * py,
                                axis=1))
     return np.sqrt(area * (2.0 if p.shape[1] == 3 else 1.0))
+
+
+def snap_back_length(row: np.ndarray) -> float:
+    """Largest element size [m] whose band unloads elastically faster than it softens.
+
+    h_max = u_r G / (tau_p - tau_r) (crack band: Bazant & Oh 1983), with the drop of the
+    shear strength at zero mean stress, tau = c cos(phi), of the kernel ``row``. Where phi
+    falls too the drop grows with the confining stress and the limit is smaller there.
+    inf for a material without softening or without a drop of c cos(phi).
+    """
+    u_r = float(row[SOFTENING_DISPLACEMENT])
+    drop = (float(row[COHESION]) * float(row[COS_PHI])
+            - float(row[RESIDUAL_COHESION]) * math.cos(float(row[RESIDUAL_PHI])))
+    if u_r <= 0.0 or drop <= 0.0:
+        return math.inf
+    return u_r * float(row[SHEAR_MODULUS]) / drop
+
+
+def warn_snap_back(length: np.ndarray, material: np.ndarray, table: np.ndarray,
+                   stacklevel: int = 3) -> None:
+    """Warn when elements exceed their material's :func:`snap_back_length`.
+
+    ``length`` [m] and ``material`` (row of ``table``) of each element. Such an element jumps
+    towards residual at the peak and dissipates more than the regularised energy.
+    """
+    for m in np.unique(material):
+        h_max = snap_back_length(table[m])
+        big = (material == m) & (length > h_max)
+        if big.any():
+            warnings.warn(
+                f"{int(big.sum())} elements of softening material {int(m)} are larger than its "
+                f"snap-back size u_r G / (tau_p - tau_r) = {h_max:.3g} m (largest "
+                f"{float(length[big].max()):.3g} m): they soften faster than they unload and "
+                "dissipate more than the regularised energy; refine them below that size or "
+                "give a larger softening_displacement", UserWarning, stacklevel=stacklevel)
 
 
 @numba.njit(cache=True, inline="always")

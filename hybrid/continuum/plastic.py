@@ -46,7 +46,7 @@ from mpi4py import MPI
 from petsc4py import PETSc
 
 from hybrid.constitutive.mohr_coulomb import mohr_coulomb_update
-from hybrid.constitutive.softening import characteristic_length
+from hybrid.constitutive.softening import characteristic_length, warn_snap_back
 from hybrid.constitutive.table import kernel_table
 from hybrid.continuum.analysis import Analysis, largest_nodal_norm
 from hybrid.continuum.fields import (
@@ -228,7 +228,9 @@ class PlasticSolver:
         self._cells = np.arange(n, dtype=np.int32)
         x, cells = model.mesh.cell_vertices()
         # crack-band width of each point's cell [m]: the length of strain softening
-        self.point_length = np.repeat(characteristic_length(x, cells), nqp)
+        cell_length = characteristic_length(x, cells)
+        self.point_length = np.repeat(cell_length, nqp)
+        warn_snap_back(cell_length, model.material_ids(), self.table)
         edges = np.linalg.norm(x[cells] - x[np.roll(cells, -1, axis=1)], axis=-1)
         smallest = V.mesh.comm.allreduce(float(edges.min(initial=np.inf)), op=MPI.MIN)
         self.max_displacement = (0.5 * smallest if self.options.max_displacement is None

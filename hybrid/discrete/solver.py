@@ -34,6 +34,7 @@ from typing import Any
 
 import numpy as np
 
+from hybrid.constitutive.softening import warn_snap_back
 from hybrid.constitutive.table import SOFTENING_DISPLACEMENT
 from hybrid.discrete import integrate, ties
 from hybrid.discrete.ledger import EnergyLedger
@@ -349,6 +350,7 @@ class ExplicitSolver:
         self.active_contacts = 0  # contact pairs in contact at the last step with pairs
         self._cap = math.inf if o.plastic_strain_cap is None else float(o.plastic_strain_cap)
         _warn_cap_before_residual(state, self._cap)
+        warn_snap_back(state.element_length, state.element_material, state.material_table)
         self._split_limit = (math.inf if o.split_plastic_strain is None
                              else o.split_plastic_strain)
         self._split_every = int(o.split_every)
