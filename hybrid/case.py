@@ -159,6 +159,23 @@ def _default_out(main: Callable[..., Any]) -> str:
     return str(default.default)
 
 
+#: written into every output folder a case run makes: --overwrite clears only such folders
+OUTPUT_MARKER = ".hybrid-output"
+
+
+def _hybrid_output(out: Path) -> bool:
+    """Whether ``out`` is an output folder of hybrid (safe to clear).
+
+    It holds the marker or a summary.json, and it is not a repository, the home folder, the
+    current folder or a root.
+    """
+    resolved = out.resolve()
+    if (resolved in (Path.home().resolve(), Path.cwd().resolve(), Path(resolved.anchor))
+            or (out / ".git").exists()):
+        return False
+    return (out / OUTPUT_MARKER).exists() or (out / "summary.json").exists()
+
+
 def prepare_output_folder(out: Path, *, overwrite: bool = False, resume: bool = False) -> None:
     """Refuse a non-empty output folder unless told to clear it or to resume from it."""
     if not out.exists() or not any(out.iterdir()):
@@ -166,6 +183,10 @@ def prepare_output_folder(out: Path, *, overwrite: bool = False, resume: bool = 
             raise CaseError(f"--resume: {out} holds no run to resume; drop --resume")
         return
     if overwrite:
+        if not _hybrid_output(out):
+            raise CaseError(f"--overwrite: {out} does not look like an output folder of "
+                            f"hybrid (no {OUTPUT_MARKER} or summary.json in it): it is not "
+                            "cleared; choose a new or empty --out")
         for item in out.iterdir():
             if item.is_dir() and not item.is_symlink():
                 shutil.rmtree(item)
@@ -211,9 +232,7 @@ def _make_out(out: Path, comm: Any) -> None:
     if comm.rank == 0:
         try:
             out.mkdir(parents=True, exist_ok=True)
-            probe = out / ".hybrid-write-test"
-            probe.write_bytes(b"")
-            probe.unlink()
+            (out / OUTPUT_MARKER).write_bytes(b"")  # also proves the folder writable
         except OSError as err:
             error = (f"output folder '{out}' cannot be written ({err.strerror}): choose "
                      "another --out")

@@ -272,3 +272,32 @@ def test_kill_9_then_resume_ends_bit_for_bit(reference, tmp_path, when):
         for name in FIELDS:
             assert np.array_equal(final[name], getattr(ref, name)), name
     _same_series(tmp_path, ref_out)
+
+
+def test_overwrite_clears_only_an_output_folder_of_hybrid(tmp_path, monkeypatch):
+    """--overwrite refuses a folder without the marker or a summary.json (a user's folder), a
+    repository, and the current folder, whatever they hold; it clears a marked one."""
+    from hybrid.case import OUTPUT_MARKER, CaseError, prepare_output_folder
+
+    mine = tmp_path / "thesis"
+    mine.mkdir()
+    (mine / "chapter1.tex").write_text("years of work")
+    with pytest.raises(CaseError, match="does not look like an output folder of hybrid"):
+        prepare_output_folder(mine, overwrite=True)
+    repo = tmp_path / "repo"
+    (repo / ".git").mkdir(parents=True)
+    (repo / "summary.json").write_text("{}")
+    with pytest.raises(CaseError, match="is not cleared"):
+        prepare_output_folder(repo, overwrite=True)
+    monkeypatch.chdir(repo.parent)
+    here = tmp_path
+    (here / OUTPUT_MARKER).write_bytes(b"")
+    with pytest.raises(CaseError, match="is not cleared"):
+        prepare_output_folder(here, overwrite=True)
+    assert (mine / "chapter1.tex").exists() and (repo / ".git").exists()
+    run = tmp_path / "run"
+    run.mkdir()
+    (run / OUTPUT_MARKER).write_bytes(b"")
+    (run / "frames").mkdir()
+    prepare_output_folder(run, overwrite=True)
+    assert not any(run.iterdir())
