@@ -18,7 +18,7 @@ from pathlib import Path
 from types import ModuleType
 from typing import Any
 
-from hybrid.discrete.outputs import CHECKPOINT, RESUME
+from hybrid.discrete.outputs import CASE_PARAMETERS, CHECKPOINT, RESUME
 from hybrid.errors import OutputError, StageIncomplete, run_command
 from hybrid.io import CaseSummary
 from hybrid.parameters import field_kind
@@ -279,6 +279,8 @@ def execute(main: Callable[..., CaseSummary], parameters: type, args: argparse.N
         raise CaseError(refused)
     _make_out(out, MPI.COMM_WORLD)
     token = RESUME.set(bool(getattr(args, "resume", False)))
+    given = CASE_PARAMETERS.set({k: v for k, v in dataclasses.asdict(parameters(**overrides))
+                                 .items() if k != "progress"})
     previous = _terminate_as_interrupt()
     try:
         summary = main(**kwargs)
@@ -291,11 +293,15 @@ def execute(main: Callable[..., CaseSummary], parameters: type, args: argparse.N
         print(f"output error: {err}", file=sys.stderr)
         return 5
     except KeyboardInterrupt:
-        print(f"interrupted: {out} keeps the frames and the checkpoint written so far; "
-              "continue with --resume", file=sys.stderr)
+        how = ("the checkpoint written so far; continue with --resume"
+               if any(out.rglob(CHECKPOINT)) else
+               "no checkpoint (set checkpoint_every to resume a long run); start again with "
+               "--overwrite")
+        print(f"interrupted: {out} keeps the frames and {how}", file=sys.stderr)
         return 130
     finally:
         RESUME.reset(token)
+        CASE_PARAMETERS.reset(given)
         if previous is not None:
             signal.signal(signal.SIGTERM, previous)
     checks = summary.checks if isinstance(summary, CaseSummary) else {}

@@ -148,8 +148,27 @@ def test_resume_with_other_runs_refused(tmp_path):
     other = rectangle(1.0, 1.0, 1, 1, material=MAT)
     with pytest.raises(ValueError, match="a checkpoint of another model"):
         ExplicitSolver(other, OPTS, observers=_outputs(tmp_path, resume=True))
-    with pytest.raises(ValueError, match="options give dt"):
+    with pytest.raises(ValueError, match=r"other run options: dt = None then, 1e-05 now"):
         ExplicitSolver(_column(), RunOptions(dt=1e-5), observers=_outputs(tmp_path, True))
+
+
+def test_resume_with_other_case_parameters_refused(tmp_path):
+    """``hybrid run --resume --set cohesion=60`` on a run started with 69: refused, naming the
+    parameter (the discrete state in the checkpoint was made with the old value)."""
+    from hybrid.discrete.outputs import CASE_PARAMETERS
+
+    token = CASE_PARAMETERS.set({"cohesion": 69.0, "mass_damping": 2.0})
+    try:
+        with ExplicitSolver(_column(), OPTS, observers=_outputs(tmp_path)) as solver:
+            solver.run(max_steps=150, phase="loading")
+        CASE_PARAMETERS.set({"cohesion": 60.0, "mass_damping": 2.0})
+        with pytest.raises(ValueError, match=r"other case parameters: cohesion = 69.0 then, "
+                                             r"60.0 now; resume with the same values"):
+            ExplicitSolver(_column(), OPTS, observers=_outputs(tmp_path, resume=True))
+        CASE_PARAMETERS.set({"cohesion": 69.0, "mass_damping": 2.0})
+        ExplicitSolver(_column(), OPTS, observers=_outputs(tmp_path, resume=True)).close()
+    finally:
+        CASE_PARAMETERS.reset(token)
 
 
 def test_full_disk_is_one_clear_message(tmp_path, monkeypatch):

@@ -37,14 +37,20 @@ from typing import Any
 import numpy as np
 
 from hybrid.discrete.ledger import EnergyLedger
-from hybrid.discrete.solver import ExplicitSolver, Observer, RunResult
+from hybrid.discrete.solver import (
+    ExplicitSolver,
+    Observer,
+    RunResult,
+    require_same_settings,
+    settings_text,
+)
 from hybrid.discrete.state import DiscreteState
 from hybrid.errors import OutputError
 from hybrid.snapshot import STRESS_NAMES
 from hybrid.xdmf import replace_file, series_index, write_frame, write_index, write_mesh
 
 __all__ = ["XdmfSeries", "Animation", "Checkpoints", "ProgressBar", "standard_outputs",
-           "frame_interval", "RESUME", "CHECKPOINT", "PREVIOUS_CHECKPOINT"]
+           "frame_interval", "RESUME", "CASE_PARAMETERS", "CHECKPOINT", "PREVIOUS_CHECKPOINT"]
 
 #: file names of the checkpoint and of the one before it
 CHECKPOINT = "checkpoint.npz"
@@ -52,6 +58,10 @@ PREVIOUS_CHECKPOINT = "checkpoint.prev.npz"
 
 #: default of ``standard_outputs(resume=...)``: ``hybrid run --resume`` sets it for the case
 RESUME: contextvars.ContextVar[bool] = contextvars.ContextVar("RESUME", default=False)
+#: the case's parameters (``hybrid run`` sets them): a checkpoint records them and a resumed
+#: run must have the same
+CASE_PARAMETERS: contextvars.ContextVar[dict | None] = contextvars.ContextVar(
+    "CASE_PARAMETERS", default=None)
 
 
 def _check_every(name: str, every: int) -> int:
@@ -354,10 +364,22 @@ class Checkpoints(Observer):
         self.files: list[Path] = []
 
     def attached(self, solver: ExplicitSolver) -> None:
-        """Resume the solver from the checkpoint (with ``resume``)."""
-        if self.resume and self.path.exists():
+        """Resume the solver from the checkpoint (with ``resume``; refused without one)."""
+        if self.resume:
+            if not self.path.exists():
+                raise ValueError(f"resume: no checkpoint at {self.path}; start again with "
+                                 "--overwrite")
             solver.restore(self.path)
             self.files.append(self.path)
+
+    def state(self) -> dict[str, np.ndarray]:
+        """The case's parameters the run was started with (:data:`CASE_PARAMETERS`)."""
+        return {"parameters": np.array(settings_text(CASE_PARAMETERS.get() or {}))}
+
+    def restore(self, saved: dict[str, np.ndarray]) -> None:
+        """Refuse a resume with other case parameters than the checkpoint's."""
+        require_same_settings(self.path, "case parameters", saved.get("parameters"),
+                              CASE_PARAMETERS.get() or {})
 
     def _save(self, solver: ExplicitSolver) -> None:
         self.path.parent.mkdir(parents=True, exist_ok=True)

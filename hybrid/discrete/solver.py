@@ -230,6 +230,34 @@ class _Progress:
                    callback=_prefixed(a, f"{prefix}on_check."))
 
 
+def settings_text(settings: Any) -> str:
+    """A dataclass's fields as sorted JSON (what a checkpoint records of its settings)."""
+    import dataclasses
+    import json
+
+    values = settings if isinstance(settings, dict) else dataclasses.asdict(settings)
+    return json.dumps(values, sort_keys=True, default=repr)
+
+
+def require_same_settings(path: str | Path, what: str, saved: Any, now: Any) -> None:
+    """Refuse to resume checkpoint ``path`` with other ``what`` than it was written with.
+
+    The message names the fields that differ. ``saved``: the checkpoint's
+    :func:`settings_text` (None: not recorded, nothing to compare).
+    """
+    import json
+
+    if saved is None:
+        return
+    old, new = json.loads(str(saved)), json.loads(settings_text(now))
+    changed = sorted(k for k in old.keys() | new.keys() if old.get(k) != new.get(k))
+    if changed:
+        raise ValueError(
+            f"checkpoint {path} was written with other {what}: "
+            + ", ".join(f"{k} = {old.get(k)!r} then, {new.get(k)!r} now" for k in changed)
+            + "; resume with the same values, or start again with --overwrite")
+
+
 def _prefixed(arrays: dict[str, np.ndarray], prefix: str) -> dict[str, np.ndarray]:
     """The entries of ``arrays`` under ``prefix``, the prefix removed."""
     return {k[len(prefix):]: v for k, v in arrays.items() if k.startswith(prefix)}
@@ -615,6 +643,7 @@ class ExplicitSolver:
         :meth:`restore` continues from them bit for bit.
         """
         out = self.state.arrays()
+        out["solver.options"] = np.array(settings_text(self.options))
         out["solver.numbers"] = np.array([self.steps, self.n_split, self.active_contacts,
                                           len(self._done)], dtype=np.int64)
         for i, (call, res) in enumerate(self._done):
@@ -652,6 +681,7 @@ class ExplicitSolver:
         if "solver.numbers" not in extra:
             raise ValueError(f"checkpoint {path} holds a state only (DiscreteState.save): "
                              "load it with DiscreteState.load and start a new solver on it")
+        require_same_settings(path, "run options", extra.get("solver.options"), self.options)
         if self.options.dt is not None and fields_["dt"] != self.options.dt:
             raise ValueError(f"checkpoint {path} ran with dt = {fields_['dt']:.6g} s, the "
                              f"options give dt = {self.options.dt:.6g} s: resume with the same "
