@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import numbers
 from collections.abc import Sequence
 from typing import Any
 
@@ -74,8 +75,8 @@ def check_field(field: dataclasses.Field, value: Any) -> None:
         number = isinstance(value, int | float) and not isinstance(value, bool)
         if not number or not math.isfinite(value):
             raise bad(f"a finite {'number' if kind == 'float' else 'whole number'}")
-        if kind == "int" and value != int(value):
-            raise bad("a whole number")
+        if kind == "int" and not isinstance(value, numbers.Integral):
+            raise bad("a whole number (an int, not 2.0)")
         if not (value > rules.get("gt", -math.inf) and value >= rules.get("ge", -math.inf)
                 and value < rules.get("lt", math.inf) and value <= rules.get("le", math.inf)):
             raise bad(_rule_text(rules))

@@ -243,6 +243,7 @@ def test_handing_over_an_empty_region_with_freeze_layers_is_refused(case):
                                            "'quadrilateral'"),
     ("uniform_load", {"degree": 3}, "degree = 3: must be one of 1, 2"),
     ("uniform_load", {"n": 2.5}, "n = 2.5: must be a whole number"),
+    ("uniform_load", {"n": 2.0}, "n = 2.0: must be a whole number (an int, not 2.0)"),
     ("uniform_load", {"q": True}, "q = True: must be a finite number"),
     ("bearing_capacity", {"settlement": math.nan}, "settlement = nan: must be a finite"),
     ("retaining_wall", {"mode": "sideways"}, "mode = 'sideways': must be one of 'active'"),

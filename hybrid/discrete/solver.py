@@ -666,8 +666,9 @@ class ExplicitSolver:
     def restore(self, path: str | Path) -> None:
         """Continue from a checkpoint written from :meth:`checkpoint_arrays`.
 
-        The state's arrays are replaced in place (so references to ``solver.state`` stay
-        valid), then the counters, the runs and the observers. Call the same runs as the
+        The state's fields are set to the checkpoint's arrays (``solver.state`` stays the same
+        object; references held to its old arrays, e.g. ``state.x``, do not follow), then the
+        counters, the runs and the observers. Call the same runs as the
         interrupted solver: those that had ended return their saved results and the one in
         progress continues.
         """
