@@ -251,7 +251,7 @@ def execute(main: Callable[..., CaseSummary], parameters: type, args: argparse.N
 
     Returns 0; 3 when an analysis stage did not complete (its message on stderr); 4 when a
     check with a bar failed (reported checks, without a bar, do not count); 5 when an output
-    could not be written; 130 when interrupted.
+    could not be written (or a file could not be read); 130 when interrupted.
     """
     from mpi4py import MPI
 
@@ -290,7 +290,15 @@ def execute(main: Callable[..., CaseSummary], parameters: type, args: argparse.N
             print(f"stage incomplete: {err}", file=sys.stderr)
         return 3
     except OutputError as err:
+        if MPI.COMM_WORLD.size > 1:
+            raise  # one rank's failure: run_command aborts the job (no rank left waiting)
         print(f"output error: {err}", file=sys.stderr)
+        return 5
+    except OSError as err:  # a continuum series, a figure: the file system said no
+        if MPI.COMM_WORLD.size > 1:
+            raise
+        print(f"output error: {err.filename or ''} could not be written or read "
+              f"({err.strerror or err}); free space or choose another --out", file=sys.stderr)
         return 5
     except KeyboardInterrupt:
         how = ("the checkpoint written so far; continue with --resume"

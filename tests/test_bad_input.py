@@ -362,3 +362,23 @@ def test_discrete_case_under_mpirun_is_refused(tmp_path):
     assert result.returncode != 0
     assert "block_drop is a discrete-only case" in result.stderr
     assert not (tmp_path / "discrete.h5").exists()
+
+
+def test_a_file_that_cannot_be_written_is_exit_5_not_a_traceback(tmp_path, capsys):
+    """A case whose output write fails with an OSError (here: its folder is a file) ends with
+    one line naming the file and exit code 5."""
+    import argparse
+
+    from hybrid.case import execute
+
+    blocked = tmp_path / "blocked"
+
+    def main(out=str(tmp_path / "out")):
+        blocked.write_text("a file, not a folder")
+        (blocked / "figure.png").write_bytes(b"")  # NotADirectoryError
+
+    args = argparse.Namespace(list=False, overrides=[], out=None, overwrite=False,
+                              resume=False)
+    assert execute(main, type("P", (), {"__dataclass_fields__": {}}), args) == 5
+    err = capsys.readouterr().err
+    assert "output error:" in err and "figure.png" in err and "Traceback" not in err
