@@ -253,8 +253,8 @@ class Animation(Observer):
     sigma_yy per element on the deformed elements; the axes span every frame and the colour
     range is the 1st to 99th percentile of all frames, both fixed for the whole animation;
     each frame is titled with its run phase and time. The PNG frames go to ``frames/``,
-    cleared when the series starts; ``animation.json`` lists each frame's time, phase, colour
-    range and axes.
+    cleared of older ones when they are rendered; ``animation.json`` lists each frame's
+    time, phase, colour range and axes.
     """
 
     def __init__(self, series: XdmfSeries) -> None:
@@ -262,13 +262,6 @@ class Animation(Observer):
         self.series = series
         self.files: list[Path] = []
         self.limits: list[tuple[tuple[float, float], ...]] = []  # per frame: clim, xlim, ylim
-        self._cleared = False
-
-    def run_started(self, solver: ExplicitSolver, total_steps: int | None) -> None:
-        """Clear the PNG frames of an earlier series (not those of a resumed one)."""
-        if not self._cleared and len(self.series.frames) <= 1:
-            _clear_frames(self.series.out / "frames")
-        self._cleared = True
 
     def close(self, solver: ExplicitSolver, final: bool) -> None:
         """Render the frames of the series."""
