@@ -87,7 +87,8 @@ from hybrid.parameters import CELLS, CaseParameters, param
 MESHES = Path(__file__).resolve().parent.parent / "meshes"
 EMBANKMENT = ("core", "zone_I", "zone_II", "berm")  # built in lifts
 GROUND = ("foundation", "yellow_clay")  # in place before construction
-SECTION = ("yellow_clay_thickness", "yellow_clay_length", "boot_length", "lifts")
+SECTION = ("yellow_clay_thickness", "yellow_clay_length", "boot_length", "lifts",
+           "last_lift_parts")
 
 FAILURE_FILL_LEVEL = 199.5  # fill level when the upstream slope slipped [m OD] (Skempton 1985)
 PUBLISHED_FOS = {  # factors of safety at Ch. 725 (thesis 6.2.5, 6.3; Chen et al. 1992)
@@ -105,8 +106,7 @@ CORE_DISPLACEMENT_BANDS = (
 REPORT_LEVELS = (198.0, 200.5)  # fill levels of the thesis's core displacements [m OD]
 
 # the fields that make the modelled section the thesis's (published figures apply with them)
-PUBLISHED_PROBLEM = ("lifts", "yellow_clay_thickness", "yellow_clay_length", "boot_length",
-                     "no_tension", "foundation_E", "foundation_nu", "foundation_gamma",
+PUBLISHED_PROBLEM = (*SECTION, "no_tension", "foundation_E", "foundation_nu", "foundation_gamma",
                      "yellow_clay_cu", "yellow_clay_E", "yellow_clay_nu", "yellow_clay_gamma",
                      "core_cu", "core_E", "core_nu", "core_gamma", "fill_c", "fill_phi",
                      "fill_E", "fill_nu", "fill_gamma", "strength_factor")
@@ -120,6 +120,7 @@ class Parameters(CaseParameters):
     cells: str = param("quadrilateral", choices=CELLS)  # or "triangle"
     degree: int = param(2, choices=(1, 2))  # displacement order
     lifts: int = param(5, ge=1)  # lifts after the foundation's stage (thesis: 6 stages in all)
+    last_lift_parts: int = param(1, ge=1)  # the last lift placed in equal parts (collapse level)
     yellow_clay_thickness: float = param(1.5, gt=0)  # [m] (published 1-2 m)
     yellow_clay_length: float | None = param(36.0, gt=0)  # from the boot's end [m] (the
     #                                   thesis's 18 elements x 2 m; None: 30 m past the toe)
@@ -222,13 +223,25 @@ def section(p: Parameters) -> Any:
     return section_module().Section(**{k: getattr(p, k) for k in SECTION})
 
 
+def node_a_candidates(g: Any) -> dict[str, tuple[float, float]]:
+    """Where in the core the thesis's node A may be [m, m OD] (measured beside it).
+
+    The thesis calls it "node A in the core" and compares its displacement with the
+    deflection observed "within the core at the base" (6.3.1.2); no more locates it.
+    """
+    boot_top = g.foundation_level + g.boot_height
+    face = 0.5 * g.core_top_width + g.core_batter * (g.crest_level - boot_top)
+    return {"axis_foundation_level": (0.0, g.foundation_level), "axis_boot_top": (0.0, boot_top),
+            "upstream_face_boot_top": (-face, boot_top), "axis_berm_top": (0.0, g.berm_top)}
+
+
 def continuum_phase(p: Parameters, out: Path) -> ContinuumPhase:
     """Gravity on the foundation, the lifts to the crest (or to collapse), node A and F after
     each complete lift; writes the continuum outputs to ``out``."""
     start, g = time.perf_counter(), section(p)
     base_mesh = build_mesh(section_module().build, size=p.size, layer_size=p.layer_size,
                            cells=p.cells, **{k: getattr(p, k) for k in SECTION})
-    tops = section_module().lift_tops(g.crest_level, g.berm_top, p.lifts)
+    tops = section_module().lift_tops(g.crest_level, g.berm_top, p.lifts, p.last_lift_parts)
     mesh, table = split_into_lifts(base_mesh, EMBANKMENT, tops), materials(p)
     model = Model(mesh, {name: table[name.split(":")[0]] for name in mesh.cell_groups},
                   supports=[Fixed("base"), Roller("left", "x"), Roller("right", "x")])
@@ -247,13 +260,20 @@ def continuum_phase(p: Parameters, out: Path) -> ContinuumPhase:
     solver.reset_displacement()
 
     # stages 2-6: the lifts; node A and F after each complete lift
-    node_a = np.array([[p.node_a_x, p.node_a_y]])
+    candidates = node_a_candidates(g)
+    node_a = np.array([[p.node_a_x, p.node_a_y], *candidates.values()])
+
+    def monitor(s: PlasticSolver) -> dict[str, Any]:
+        dx = 1e3 * evaluate(s.u, node_a)[:, 0]
+        return {"node_A_dx_mm": float(dx[0]),
+                "core_dx_mm": dict(zip(candidates, map(float, dx[1:]), strict=True))}
+
     search = StrengthSearch(initial_increment=p.fos_step, max_increment=max(p.fos_step, 0.25),
                             tolerance=p.fos_tolerance)
     built = build_in_lifts(
         solver, mesh, tops, g.foundation_level, steps=p.ramp_steps,
         safety=search if p.safety else None, safety_every_lift=p.safety_every_lift,
-        unit="m_OD", monitor=lambda s: {"node_A_dx_mm": 1e3 * float(evaluate(s.u, node_a)[0, 0])})
+        unit="m_OD", monitor=monitor)
     state = built.last_equilibrium(solver, mesh)  # figures and their numbers
     construction_time = time.perf_counter() - start - built.safety_wall_time
     carried, history, safety = built.level_carried, built.history("node_A_dx_mm"), built.safety
@@ -296,8 +316,12 @@ def continuum_phase(p: Parameters, out: Path) -> ContinuumPhase:
             "yielded_cells": state.comm.allreduce(len(state.yielded_cells())),
             **state.yielded_fractions(clays),
             "newton_iterations": solver.iterations_total, "wall_time_s": construction_time},
-        "core_displacement_mm": {**at_level, "node_A_m": node_a[0].tolist(),
-                                 "by_fill_level": history, "sign": "+ downstream"},
+        "core_displacement_mm": {
+            **at_level, "node_A_m": node_a[0].tolist(), "by_fill_level": history,
+            "sign": "+ downstream", "candidates": {
+                name: {"point_m": list(point), "by_fill_level": [
+                    (z, dx[name]) for z, dx in built.history("core_dx_mm")]}
+                for name, point in candidates.items()}},
         "figures": [str(f) for f in paths]},
         checks={**far.checks, "max_stress_in_unplaced_lifts": Check(
             built.max_unplaced_stress, 0.0, 0.0, "kPa", "exactly zero")})
