@@ -23,9 +23,11 @@ Set-up
     (``build_in_lifts``: increments halved when Newton fails); displacements count from
     placement. A lift whose full weight finds no equilibrium is the collapse: construction
     stops; the fill level carried is the top of the last complete lift, and of the collapsing
-    lift only the fraction of its weight carried is reported. After every complete lift: the
-    horizontal displacement at node A (``node_a_x``, ``node_a_y``) and F (c and tan(phi)
-    divided by F until no equilibrium, from that lift's state, restored afterwards).
+    lift only the fraction of its weight carried is reported (``last_lift_parts``: the last
+    lift in parts, for the level of a collapse in it). After every complete lift: the
+    horizontal displacement at node A (``node_a_x``, ``node_a_y``; also at the other places
+    the thesis's words allow, ``node_a_candidates``) and F (c and tan(phi) divided by F until
+    no equilibrium, from that lift's state, restored afterwards).
     Discrete phase (``discrete_phase``): from the end of construction (the design height) or,
     after a collapse, from the last complete lift with the collapsing lift placed whole; the
     yielded cells + ``region_layers`` may split, the foundation is held; run to rest.
