@@ -65,8 +65,11 @@ docs: setup
 	$(PY) -m hybrid run cases/retaining_wall_collapse.py --out $(DOCS_RUN)/h3 --set progress=false --overwrite
 	$(PY) -m hybrid run cases/toppling.py --out $(DOCS_RUN)/d10 --set progress=false --overwrite
 	$(PY) -m hybrid run cases/carsington.py --out $(DOCS_RUN)/carsington --set progress=false --overwrite
+	$(PY) -m hybrid run cases/carsington.py --out $(DOCS_RUN)/carsington_last_lift --set progress=false \
+	    --set last_lift_parts=10 --set safety=false --set discrete_time=0 --overwrite
 	mkdir -p docs/summaries docs/figures/hybrid docs/figures/carsington
-	for c in h2 h3 d10 carsington; do cp $(DOCS_RUN)/$$c/summary.json docs/summaries/$$c.json; done
+	for c in h2 h3 d10 carsington carsington_last_lift; do \
+	    cp $(DOCS_RUN)/$$c/summary.json docs/summaries/$$c.json; done
 	for f in end_of_construction_yielded end_of_construction_sigma_yy \
 	    end_of_construction_sigma_xx core_displacement_vs_fill_level discrete_final; do \
 	    cp $(DOCS_RUN)/carsington/$$f.png docs/figures/carsington/$$f.png; done

@@ -23,9 +23,11 @@ Set-up
     (``build_in_lifts``: increments halved when Newton fails); displacements count from
     placement. A lift whose full weight finds no equilibrium is the collapse: construction
     stops; the fill level carried is the top of the last complete lift, and of the collapsing
-    lift only the fraction of its weight carried is reported. After every complete lift: the
-    horizontal displacement at node A (``node_a_x``, ``node_a_y``) and F (c and tan(phi)
-    divided by F until no equilibrium, from that lift's state, restored afterwards).
+    lift only the fraction of its weight carried is reported (``last_lift_parts``: the last
+    lift in parts, for the level of a collapse in it). After every complete lift: the
+    horizontal displacement at node A (``node_a_x``, ``node_a_y``; also at the other places
+    the thesis's words allow, ``node_a_candidates``) and F (c and tan(phi) divided by F until
+    no equilibrium, from that lift's state, restored afterwards).
     Discrete phase (``discrete_phase``): from the end of construction (the design height) or,
     after a collapse, from the last complete lift with the collapsing lift placed whole; the
     yielded cells + ``region_layers`` may split, the foundation is held; run to rest.
@@ -58,17 +60,25 @@ import numpy as np
 
 from hybrid.case import uses_defaults
 from hybrid.continuum import ContinuumState, NewtonOptions, PlasticSolver
+from hybrid.continuum.analysis import at_rest_checks
 from hybrid.continuum.limit_equilibrium import bishop_circle
 from hybrid.continuum.probe import evaluate
-from hybrid.continuum.staging import Construction, build_in_lifts, lift_groups, split_into_lifts
+from hybrid.continuum.staging import Construction, build_in_lifts, split_into_lifts
 from hybrid.continuum.strength_reduction import StrengthSearch
 from hybrid.discrete.energy import conservation_checks, energy_peak_ratio
 from hybrid.discrete.figures import plot_configuration
 from hybrid.discrete.integrate import stable_time_step
-from hybrid.discrete.measures import SlipSurface, SlopeMarks
+from hybrid.discrete.measures import SlipSurface, SlopeMarks, mean_displacement
 from hybrid.discrete.runs import run_to_rest
 from hybrid.discrete.solver import RunOptions
-from hybrid.figures import Band, Column, engineering_figures, plot_level_history, staged_figures
+from hybrid.figures import (
+    Band,
+    Column,
+    engineering_figures,
+    plot_level_history,
+    safety_engineering_figures,
+    staged_figures,
+)
 from hybrid.geometry import build_mesh, load_mesh_script
 from hybrid.handover import Region, element_groups, from_construction
 from hybrid.io import CaseSummary, Check, write_continuum_xdmf
@@ -79,7 +89,8 @@ from hybrid.parameters import CELLS, CaseParameters, param
 MESHES = Path(__file__).resolve().parent.parent / "meshes"
 EMBANKMENT = ("core", "zone_I", "zone_II", "berm")  # built in lifts
 GROUND = ("foundation", "yellow_clay")  # in place before construction
-SECTION = ("yellow_clay_thickness", "yellow_clay_length", "boot_length", "lifts")
+SECTION = ("yellow_clay_thickness", "yellow_clay_length", "boot_length", "lifts",
+           "last_lift_parts")
 
 FAILURE_FILL_LEVEL = 199.5  # fill level when the upstream slope slipped [m OD] (Skempton 1985)
 PUBLISHED_FOS = {  # factors of safety at Ch. 725 (thesis 6.2.5, 6.3; Chen et al. 1992)
@@ -97,8 +108,7 @@ CORE_DISPLACEMENT_BANDS = (
 REPORT_LEVELS = (198.0, 200.5)  # fill levels of the thesis's core displacements [m OD]
 
 # the fields that make the modelled section the thesis's (published figures apply with them)
-PUBLISHED_PROBLEM = ("lifts", "yellow_clay_thickness", "yellow_clay_length", "boot_length",
-                     "no_tension", "foundation_E", "foundation_nu", "foundation_gamma",
+PUBLISHED_PROBLEM = (*SECTION, "no_tension", "foundation_E", "foundation_nu", "foundation_gamma",
                      "yellow_clay_cu", "yellow_clay_E", "yellow_clay_nu", "yellow_clay_gamma",
                      "core_cu", "core_E", "core_nu", "core_gamma", "fill_c", "fill_phi",
                      "fill_E", "fill_nu", "fill_gamma", "strength_factor")
@@ -112,6 +122,7 @@ class Parameters(CaseParameters):
     cells: str = param("quadrilateral", choices=CELLS)  # or "triangle"
     degree: int = param(2, choices=(1, 2))  # displacement order
     lifts: int = param(5, ge=1)  # lifts after the foundation's stage (thesis: 6 stages in all)
+    last_lift_parts: int = param(1, ge=1)  # the last lift placed in equal parts (collapse level)
     yellow_clay_thickness: float = param(1.5, gt=0)  # [m] (published 1-2 m)
     yellow_clay_length: float | None = param(36.0, gt=0)  # from the boot's end [m] (the
     #                                   thesis's 18 elements x 2 m; None: 30 m past the toe)
@@ -214,14 +225,26 @@ def section(p: Parameters) -> Any:
     return section_module().Section(**{k: getattr(p, k) for k in SECTION})
 
 
+def node_a_candidates(g: Any) -> dict[str, tuple[float, float]]:
+    """Where in the core the thesis's node A may be [m, m OD] (measured beside it).
+
+    The thesis calls it "node A in the core" and compares its displacement with the
+    deflection observed "within the core at the base" (6.3.1.2); no more locates it.
+    """
+    boot_top = g.foundation_level + g.boot_height
+    face = 0.5 * g.core_top_width + g.core_batter * (g.crest_level - boot_top)
+    return {"axis_foundation_level": (0.0, g.foundation_level), "axis_boot_top": (0.0, boot_top),
+            "upstream_face_boot_top": (-face, boot_top), "axis_berm_top": (0.0, g.berm_top)}
+
+
 def continuum_phase(p: Parameters, out: Path) -> ContinuumPhase:
     """Gravity on the foundation, the lifts to the crest (or to collapse), node A and F after
     each complete lift; writes the continuum outputs to ``out``."""
     start, g = time.perf_counter(), section(p)
     base_mesh = build_mesh(section_module().build, size=p.size, layer_size=p.layer_size,
                            cells=p.cells, **{k: getattr(p, k) for k in SECTION})
-    tops = section_module().lift_tops(g.crest_level, g.berm_top, p.lifts)
-    mesh, table, comm = split_into_lifts(base_mesh, EMBANKMENT, tops), materials(p), base_mesh.comm
+    tops = section_module().lift_tops(g.crest_level, g.berm_top, p.lifts, p.last_lift_parts)
+    mesh, table = split_into_lifts(base_mesh, EMBANKMENT, tops), materials(p)
     model = Model(mesh, {name: table[name.split(":")[0]] for name in mesh.cell_groups},
                   supports=[Fixed("base"), Roller("left", "x"), Roller("right", "x")])
     solver = PlasticSolver(model, degree=p.degree,
@@ -232,31 +255,30 @@ def continuum_phase(p: Parameters, out: Path) -> ContinuumPhase:
     solver.set_active(list(GROUND))
     solver.apply_gravity(steps=p.gravity_steps).require()
     gravity_iterations = solver.iterations_total
-    far = np.array([[g.extent[1] - 5.0, 0.5 * (g.extent[2] + g.foundation_level)]])
-    s_far = solver.state().stress_at(far)[0]
-    sv = -p.foundation_gamma * (g.foundation_level - far[0, 1])
-    k0 = p.foundation_nu / (1.0 - p.foundation_nu)
+    far_point = (g.extent[1] - 5.0, 0.5 * (g.extent[2] + g.foundation_level))
+    far = at_rest_checks(solver.state(), far_point, ground_level=g.foundation_level,
+                         unit_weight=p.foundation_gamma, nu=p.foundation_nu,
+                         where="below the level ground downstream")
     solver.reset_displacement()
 
     # stages 2-6: the lifts; node A and F after each complete lift
-    node_a = np.array([[p.node_a_x, p.node_a_y]])
+    candidates = node_a_candidates(g)
+    node_a = np.array([[p.node_a_x, p.node_a_y], *candidates.values()])
+
+    def monitor(s: PlasticSolver) -> dict[str, Any]:
+        dx = 1e3 * evaluate(s.u, node_a)[:, 0]
+        return {"node_A_dx_mm": float(dx[0]),
+                "core_dx_mm": dict(zip(candidates, map(float, dx[1:]), strict=True))}
+
     search = StrengthSearch(initial_increment=p.fos_step, max_increment=max(p.fos_step, 0.25),
                             tolerance=p.fos_tolerance)
     built = build_in_lifts(
         solver, mesh, tops, g.foundation_level, steps=p.ramp_steps,
         safety=search if p.safety else None, safety_every_lift=p.safety_every_lift,
-        unit="m_OD", monitor=lambda s: {"node_A_dx_mm": 1e3 * float(evaluate(s.u, node_a)[0, 0])})
-    stages, safety = built.stages, built.safety
-    if built.before_collapse is not None:  # figures and figures' numbers: the last equilibrium
-        solver.restore(built.before_collapse)
-    state = solver.state()
-    if built.before_collapse is not None:  # the collapsing lift is not in place there
-        state.active &= ~np.isin(np.arange(base_mesh.num_owned_cells), np.concatenate(
-            [mesh.cells(name) for name in lift_groups(mesh, stages[-1]["lift"])]))
+        unit="m_OD", monitor=monitor)
+    state = built.last_equilibrium(solver, mesh)  # figures and their numbers
     construction_time = time.perf_counter() - start - built.safety_wall_time
-    done = [st for st in stages if st["completed"]]
-    carried = done[-1]["top_m_OD"] if done else g.foundation_level
-    history = [(st["top_m_OD"], st["node_A_dx_mm"]) for st in done]
+    carried, history, safety = built.level_carried, built.history("node_A_dx_mm"), built.safety
     at_level = {f"{z:g}": next((dx for top, dx in history if top == z), None)
                 for z in REPORT_LEVELS}
 
@@ -266,67 +288,45 @@ def continuum_phase(p: Parameters, out: Path) -> ContinuumPhase:
     core = np.isin(np.arange(base_mesh.num_owned_cells), base_mesh.cells("core")) & state.active
     column = Column(core, p.node_a_x, g.foundation_level - g.trench_depth + 0.1,
                     g.crest_level - 0.1, tops, "the axis", "core")
+    m_od = "elevation [m OD]"
     paths = staged_figures(out, base_mesh, state, built, window=window, column=column,
-                           circle=circle, elevation_label="elevation [m OD]")
+                           circle=circle, elevation_label=m_od)
     paths.append(plot_level_history(
         out / "core_displacement_vs_fill_level.png", [g.foundation_level] + [z for z, _ in history],
         [0.0] + [abs(dx) for _, dx in history], bands=CORE_DISPLACEMENT_BANDS,
         label=f"this analysis, node A ({p.node_a_x:g} m, {p.node_a_y:g} m OD)",
         xlabel="horizontal displacement of the core at node A, |u_x| [mm]",
         ylabel="fill level [m OD]", title="Core displacement against fill level"))
-    when = f"fill at {carried:g} m OD"
-    paths += engineering_figures(out, state, prefix="end_of_construction_", when=when,
-                                 window=window, elevation_label="elevation [m OD]")
+    paths += engineering_figures(out, state, prefix="end_of_construction_",
+                                 when=f"fill at {carried:g} m OD", window=window,
+                                 elevation_label=m_od)
     if safety is not None and circle is not None:
-        arc = circle.arc()
-
-        def bishop(ax: Any) -> None:
-            ax.plot(arc[:, 0], arc[:, 1], "r--", lw=1.5,
-                    label=f"critical circle (Bishop), F = {circle.factor:.3f}")
-            ax.legend(loc="upper left", fontsize=8)
-
-        confirmed = safety.mechanism_confirmed  # else the last increment shows no mechanism
-        paths += engineering_figures(
-            out, safety.state, prefix="fos_", window=window, overlay=bishop,
-            when=f"F = {safety.factor:.3f}" + ("" if confirmed else " (no mechanism found)"),
-            increment=safety.mechanism if confirmed else None,
-            elevation_label="elevation [m OD]")
+        paths += safety_engineering_figures(out, safety, circle=circle, window=window,
+                                            elevation_label=m_od)
     write_continuum_xdmf(out / "continuum.xdmf", state)
 
-    def yielded(s: ContinuumState) -> dict[str, float]:
-        return {f"{name}_yielded_fraction": s.yielded_fraction(base_mesh.cells(name))
-                for name in ("yellow_clay", "core")}
-
-    collapse = None if built.completed else {
-        "lift": stages[-1]["lift"], "top_m_OD": stages[-1]["top_m_OD"],
-        "weight_carried": stages[-1]["weight_placed"]}
+    clays = {name: base_mesh.cells(name) for name in ("yellow_clay", "core")}
     summary = CaseSummary("carsington", out, p, results={
-        "mesh": {"cells": comm.allreduce(base_mesh.num_owned_cells),
-                 "cell_type": base_mesh.cell_type, "dofs": state.info["dofs"],
-                 "groups": {name: comm.allreduce(len(base_mesh.cells(name)))
-                            for name in base_mesh.cell_groups},
-                 "group_areas_m2": {name: base_mesh.group_area(name)
-                                    for name in base_mesh.cell_groups},
-                 "lift_tops_m_OD": tops},
-        "gravity": {"newton_iterations": gravity_iterations, "far_field_stress_kPa": s_far},
+        "mesh": {**base_mesh.report(), "dofs": state.info["dofs"], "lift_tops_m_OD": tops},
+        "gravity": {"newton_iterations": gravity_iterations, "far_field_stress_kPa": far.stress},
         "construction": {
-            "completed": built.completed, "stages": stages, "fill_level_m_od": carried,
-            "collapsing_lift": collapse,
-            "max_settlement_core_m": state.extreme_displacement(1, cells=base_mesh.cells("core")),
+            "completed": built.completed, "stages": built.stages, "fill_level_m_od": carried,
+            "collapsing_lift": built.collapse,
+            "max_settlement_core_m": state.extreme_displacement(1, cells=clays["core"]),
             "max_upstream_displacement_m": state.extreme_displacement(0),
             "max_downstream_displacement_m": state.extreme_displacement(0, largest=True),
-            "yielded_cells": comm.allreduce(len(state.yielded_cells())), **yielded(state),
+            "yielded_cells": state.comm.allreduce(len(state.yielded_cells())),
+            **state.yielded_fractions(clays),
             "newton_iterations": solver.iterations_total, "wall_time_s": construction_time},
-        "core_displacement_mm": {**at_level, "node_A_m": node_a[0].tolist(),
-                                 "by_fill_level": history, "sign": "+ downstream"},
+        "core_displacement_mm": {
+            **at_level, "node_A_m": node_a[0].tolist(), "by_fill_level": history,
+            "sign": "+ downstream", "candidates": {
+                name: {"point_m": list(point), "by_fill_level": [
+                    (z, dx[name]) for z, dx in built.history("core_dx_mm")]}
+                for name, point in candidates.items()}},
         "figures": [str(f) for f in paths]},
-        checks={
-            "far_field_sigma_v": Check(float(s_far[1]), sv, 0.01, "kPa",
-                                       "gamma z below the level ground downstream"),
-            "far_field_sigma_h": Check(float(s_far[0]), k0 * sv, 0.01, "kPa",
-                                       "K0 gamma z, K0 = nu / (1 - nu)"),
-            "max_stress_in_unplaced_lifts": Check(built.max_unplaced_stress, 0.0, 0.0, "kPa",
-                                                  "exactly zero")})
+        checks={**far.checks, "max_stress_in_unplaced_lifts": Check(
+            built.max_unplaced_stress, 0.0, 0.0, "kPa", "exactly zero")})
     published, checks = uses_defaults(p, PUBLISHED_PROBLEM), summary["checks"]
     checks["fill_level_vs_thesis"] = Check.published(
         carried, g.crest_level, None, "m OD", "thesis: stands to the design crest (Table 6.3)",
@@ -337,10 +337,11 @@ def continuum_phase(p: Parameters, out: Path) -> ContinuumPhase:
                 abs(dx), 0.5 * (band.low + band.high), None, "mm", band.label,
                 applies=published)
     if safety is not None and circle is not None:
-        lift = max(st["lift"] for st in stages if "factor_of_safety" in st)
+        lift = max(st["lift"] for st in built.stages if "factor_of_safety" in st)
         summary["factor_of_safety"] = {
             **safety.as_dict(), "after_lift": lift, "fill_level_m_OD": tops[lift - 1],
-            "strength_factor_of_construction": p.strength_factor, **yielded(safety.state),
+            "strength_factor_of_construction": p.strength_factor,
+            **safety.state.yielded_fractions(clays),
             "wall_time_s": built.safety_wall_time, "bishop": circle.as_dict()}
         checks["fos_vs_bishop"] = Check(
             safety.factor, circle.factor, None, "-",
@@ -400,16 +401,11 @@ def discrete_phase(phase: ContinuumPhase, p: Parameters, out: Path) -> dict[str,
     paths = [*run.figures, plot_configuration(
         out / "discrete_final.png", disc, window=window, lines=surface.lines(disc), outline=True,
         title=f"t = {res.time:.3g} s ({res.stop_reason})")]
-    through, published = surface.through, uses_defaults(p, PUBLISHED_PROBLEM)
-    u, moved = disc.x - disc.x_ref, slope.movement(disc)
-    shoulder_dx = float(np.mean(u[disc.element_nodes[upstream_shoulder]][..., 0]))
+    published, moved = uses_defaults(p, PUBLISHED_PROBLEM), slope.movement(disc)
+    shoulder_dx = mean_displacement(disc, upstream_shoulder)[0]
     checks = {
-        "slip_surface_through_yellow_clay": Check(
-            float(through["yellow_clay"] > 0), 1.0, 0.0, "-",
-            f"failed interfaces slipped >= {p.slip_min} m with a yellow-clay element"),
-        "slip_surface_through_boot": Check(
-            float(through["boot"] > 0), 1.0, 0.0, "-",
-            f"failed interfaces slipped >= {p.slip_min} m with an element of the core's boot"),
+        **surface.checks({"yellow_clay": "a yellow-clay element",
+                          "boot": "an element of the core's boot"}),
         "shoulder_moves_upstream": Check(float(shoulder_dx < 0.0), 1.0, 0.0, "-",
                                          "mean x-displacement of the upstream shoulder < 0"),
         **conservation_checks(h, disc, n0, mass0),
@@ -427,16 +423,10 @@ def discrete_phase(phase: ContinuumPhase, p: Parameters, out: Path) -> dict[str,
             "elements": disc.n_elements, "dt_s": res.dt, "steps": res.steps,
             "time_s": res.time, "stop": res.stop_reason, "wall_time_s": res.wall_time,
             "phase_wall_time_s": time.perf_counter() - start,
-            "interfaces_failed": int((~disc.interface_intact).sum()),
-            "slip_surface_interfaces": int(surface.interfaces.sum()),
-            "slip_surface_yellow_clay": through["yellow_clay"],
-            "slip_surface_boot": through["boot"],
-            "slip_surface_trace_m": surface.trace,
-            "slipped_interfaces_by_threshold_m": surface.by_threshold,
+            "interfaces_failed": int((~disc.interface_intact).sum()), **surface.summary(),
             "upstream_shoulder_mean_dx_m": shoulder_dx,
             "upstream_toe_dx_m": moved.toe_dx, "crest_drop_m": moved.crest_drop,
-            "toe_runout_m": -moved.toe_dx,
-            "max_upstream_movement_m": moved.run_out,
+            "toe_runout_m": -moved.toe_dx, "max_upstream_movement_m": moved.run_out,
             "energy_peak_over_supply": energy_peak_ratio(h),
             "figures": [str(f) for f in paths],
             "outputs": [str(f) for f in run.outputs]},

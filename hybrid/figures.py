@@ -24,13 +24,14 @@ from hybrid.io import Box, check_box, gather_cells, plot_cell_field, save_figure
 if TYPE_CHECKING:
     from hybrid.continuum.staging import Construction
     from hybrid.continuum.state import ContinuumState
+    from hybrid.continuum.strength_reduction import SafetyResult
     from hybrid.references import SlipCircle
 
 __all__ = ["Column", "Band", "plot_level_history", "window_overlay", "construction_figures",
            "plot_displacement_vectors", "plot_column_profiles", "safety_figures",
            "staged_figures", "shear_strain", "plastic_points", "plot_deformed_mesh",
-           "plot_shear_strain", "plot_plastic_points", "engineering_figures", "MOHR_COULOMB",
-           "TENSION_CUTOFF"]
+           "plot_shear_strain", "plot_plastic_points", "engineering_figures",
+           "safety_engineering_figures", "circle_overlay", "MOHR_COULOMB", "TENSION_CUTOFF"]
 
 Window = Box
 
@@ -527,3 +528,36 @@ def engineering_figures(out: str | Path, state: ContinuumState, *, prefix: str =
                                        title=f"Incremental shear strain{at}",
                                        overlay=overlay))
     return [p for p in paths if p is not None]
+
+
+def circle_overlay(circle: SlipCircle) -> Callable[[Any], None]:
+    """Overlay that draws a slip ``circle`` dashed, labelled with its factor of safety."""
+    arc = circle.arc()
+
+    def draw(ax: Any) -> None:
+        ax.plot(arc[:, 0], arc[:, 1], "r--", lw=1.5,
+                label=f"critical circle (Bishop), F = {circle.factor:.3f}")
+        ax.legend(loc="upper left", fontsize=8)
+
+    return draw
+
+
+def safety_engineering_figures(out: str | Path, safety: SafetyResult, *,
+                               circle: SlipCircle | None = None, window: Window | None = None,
+                               prefix: str = "fos_", elevation_label: str = "y [m]"
+                               ) -> list[Path]:
+    """:func:`engineering_figures` of a strength reduction's state at F.
+
+    The incremental shear strain is that of the last reduction step, drawn only when that
+    step showed a mechanism (``safety.mechanism_confirmed``; the title says when none was
+    found); ``circle`` (e.g. Bishop's critical circle) is drawn over the shear strains.
+    """
+    if safety.state is None:
+        raise ValueError("safety_engineering_figures: the SafetyResult has no state at F "
+                         "(give the result of factor_of_safety)")
+    confirmed = safety.mechanism_confirmed
+    return engineering_figures(
+        out, safety.state, prefix=prefix, window=window,
+        overlay=None if circle is None else circle_overlay(circle),
+        when=f"F = {safety.factor:.3f}" + ("" if confirmed else " (no mechanism found)"),
+        increment=safety.mechanism if confirmed else None, elevation_label=elevation_label)

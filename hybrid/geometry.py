@@ -109,6 +109,18 @@ class MeshData:
                                   - np.roll(p[:, :, 0], -1, axis=1) * p[:, :, 1]))
         return float(self.comm.allreduce(area))
 
+    def report(self) -> dict[str, Any]:
+        """The mesh in numbers (collective).
+
+        "cells" and each group's cells ("groups") over all MPI ranks, "cell_type", each
+        group's area ("group_areas_m2", :meth:`group_area`).
+        """
+        comm = self.comm
+        return {"cells": comm.allreduce(self.num_owned_cells), "cell_type": self.cell_type,
+                "groups": {name: comm.allreduce(len(self.cells(name)))
+                           for name in self.cell_groups},
+                "group_areas_m2": {name: self.group_area(name) for name in self.cell_groups}}
+
     @property
     def is_quad(self) -> bool:
         """True for a quadrilateral mesh, False for triangles."""

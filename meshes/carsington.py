@@ -58,6 +58,8 @@ class Section:
         margin: foundation modelled beyond each toe [m] (assumed: about one base width).
         lifts: construction lifts after the foundation's stage (thesis: six stages, the
             foundation and five lifts; :func:`lift_tops`).
+        last_lift_parts: the last lift placed in this many equal parts (1: whole; more: the
+            fill level at a collapse in the last lift found more finely).
     """
 
     crest_level: float = 200.5
@@ -81,14 +83,15 @@ class Section:
     foundation_depth: float = 40.0
     margin: float = 200.0
     lifts: int = 5
+    last_lift_parts: int = 1
 
     def __post_init__(self) -> None:
         if not self.foundation_level < self.berm_top - self.berm_height < self.berm_top \
                 < self.crest_level:
             raise ValueError("levels must rise: foundation <= ground under berm < berm top "
                              "< crest")
-        if self.lifts < 1:
-            raise ValueError("at least one lift")
+        if self.lifts < 1 or self.last_lift_parts < 1:
+            raise ValueError("at least one lift, and the last one in at least one part")
         for name in ("crest_width", "upstream_slope", "downstream_slope", "core_top_width",
                      "trench_depth", "boot_height", "zone_I_slope", "berm_width",
                      "yellow_clay_thickness", "foundation_depth", "margin"):
@@ -158,26 +161,34 @@ class Section:
 HISTORY_LEVELS = (182.0, 190.0, 198.0)
 
 
-def lift_tops(crest_level: float = 200.5, berm_top: float = 175.6,
-              lifts: int = 5) -> list[float]:
+def lift_tops(crest_level: float = 200.5, berm_top: float = 175.6, lifts: int = 5,
+              last_lift_parts: int = 1) -> list[float]:
     """Top elevation of each construction lift [m OD].
 
     The thesis's six stages are the foundation and five lifts (6.3.1.1). Five lifts (the
     default): the berm top, :data:`HISTORY_LEVELS`, the crest; the first lift brings the
     fill to the berm top with the berm (an assumption: the berm was built in 1983, with the
     fill at 190 m OD; stage 1 keeps it whole). Any other number: the first lift to the berm
-    top, then equal lifts to the crest.
+    top, then equal lifts to the crest. ``last_lift_parts``: the last lift cut into this
+    many equal lifts.
     """
     if lifts == 1:
-        return [crest_level]
-    if lifts == 1 + len(HISTORY_LEVELS) + 1:
+        tops = [crest_level]
+    elif lifts == 1 + len(HISTORY_LEVELS) + 1:
         if not berm_top < HISTORY_LEVELS[0] and HISTORY_LEVELS[-1] < crest_level:
             raise ValueError(f"5 lifts use the history levels {HISTORY_LEVELS} m OD: the berm "
                              "top must be below and the crest above them (or give another "
                              "number of lifts)")
-        return [berm_top, *HISTORY_LEVELS, crest_level]
-    dh = (crest_level - berm_top) / (lifts - 1)
-    return [berm_top + k * dh for k in range(lifts - 1)] + [crest_level]
+        tops = [berm_top, *HISTORY_LEVELS, crest_level]
+    else:
+        dh = (crest_level - berm_top) / (lifts - 1)
+        tops = [berm_top + k * dh for k in range(lifts - 1)] + [crest_level]
+    if last_lift_parts == 1:
+        return tops
+    if len(tops) == 1:
+        raise ValueError("last_lift_parts > 1 needs two lifts at least (or last_lift_parts=1)")
+    dh = (crest_level - tops[-2]) / last_lift_parts
+    return tops[:-1] + [tops[-2] + k * dh for k in range(1, last_lift_parts)] + [crest_level]
 
 
 def _polygon(occ, points: list[tuple[float, float]]) -> int:
@@ -247,7 +258,7 @@ def build(gmsh, size: float = 6.0, far_size: float | None = None,
                                          removeTool=False)
     regions["zone_II"], _ = occ.cut(regions["zone_II"], regions["zone_I"], removeTool=False)
     # lift tops: horizontal bands cut every region into lifts
-    tops = lift_tops(s.crest_level, s.berm_top, s.lifts)
+    tops = lift_tops(s.crest_level, s.berm_top, s.lifts, s.last_lift_parts)
     xl, xr, yb = s.extent
     bands = [(2, occ.addRectangle(xl - 1.0, tops[k], 0, xr - xl + 2.0, tops[k + 1] - tops[k]))
              for k in range(len(tops) - 1)]

@@ -51,6 +51,11 @@ def test_section_groups_areas_and_lifts(case):
     assert tops == [175.6, 182.0, 190.0, 198.0, 200.5]
     assert sm.lift_tops(lifts=1) == [section.crest_level]
     assert sm.lift_tops(lifts=3) == [175.6, 188.05, 200.5]
+    # the last lift in parts: the fill level of a collapse in it found more finely
+    assert sm.lift_tops(last_lift_parts=5) == [175.6, 182.0, 190.0, 198.0, 198.5, 199.0,
+                                               199.5, 200.0, 200.5]
+    with pytest.raises(ValueError, match="two lifts"):
+        sm.lift_tops(lifts=1, last_lift_parts=2)
     staged = split_into_lifts(mesh, cars.EMBANKMENT, tops)
     assert sum(len(staged.cells(g)) for g in staged.cell_groups) == mesh.num_owned_cells
     bottom = section.foundation_level - section.trench_depth
@@ -128,6 +133,12 @@ def _check_run(summary: dict, tolerance: float) -> None:
     for level in ("198", "200.5"):
         reached = any(st["top_m_OD"] == float(level) for st in complete)
         assert (core[level] is not None) == reached, level
+    # the places node A may be, measured after the same lifts; the default is one of them
+    assert core["node_A_m"] in [c["point_m"] for c in core["candidates"].values()]
+    for candidate in core["candidates"].values():
+        assert [z for z, _ in candidate["by_fill_level"]] == [st["top_m_OD"] for st in complete]
+        if candidate["point_m"] == core["node_A_m"]:
+            assert candidate["by_fill_level"] == core["by_fill_level"]
 
 
 def test_carsington_smoke(case, tmp_path):

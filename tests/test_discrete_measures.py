@@ -10,6 +10,7 @@ from hybrid.discrete.measures import (
     SlipSurface,
     SlopeMarks,
     interface_slip,
+    mean_displacement,
     slip_surface,
     slip_trace,
     slipped_interfaces,
@@ -79,6 +80,22 @@ def test_slip_surface_gathers_the_measures():
     # the interface on its first element's side, where that element is now
     np.testing.assert_allclose(segments, st.x[st.interface_nodes[:, :2]][None, 0])
     assert SlipSurface.of(st, 1.0, sets).interfaces.tolist() == [False]
+    assert surface.summary() == {
+        "slip_surface_interfaces": 1, "slip_surface_left": 1,
+        "slip_surface_trace_m": [[1.0, 0.5]],
+        "slipped_interfaces_by_threshold_m": surface.by_threshold}
+    checks = SlipSurface.of(st, 0.1, {**sets, "none": np.zeros(2, bool)}).checks(
+        {"left": "a left element", "none": "no element"})
+    assert checks["slip_surface_through_left"].passed
+    assert not checks["slip_surface_through_none"].passed
+    assert checks["slip_surface_through_left"].source == (
+        "failed interfaces slipped >= 0.1 m with a left element")
+
+
+def test_mean_displacement():
+    st = _two_blocks(0.3)  # the right block moved 0.3 m up
+    assert mean_displacement(st, np.array([False, True])) == pytest.approx((0.0, 0.3))
+    assert mean_displacement(st, np.array([True, True])) == pytest.approx((0.0, 0.15))
 
 
 def test_slope_marks_toe_crest_and_movement():

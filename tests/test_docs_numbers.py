@@ -1,11 +1,11 @@
 """Every figure the user docs quote matches the committed results file it comes from.
 
 The files: ``docs/verification/results.json`` (``make verify``: ``hybrid verify --full
---update-docs``) and ``docs/summaries/{h2,h3,d10}.json`` (``make docs``: the cases'
-``summary.json``). Each quote below is a passage of a doc with ``{}`` where a number stands;
-the passage must occur in the doc (line breaks and runs of spaces count as one space) and
-each number must equal its value to the rounding it is quoted with (half a unit of its last
-digit). A figure the docs quote without a file behind it does not belong in them: rephrase.
+--update-docs``) and ``docs/summaries/*.json`` (``make docs``: the cases' ``summary.json``).
+Each quote below is a passage of a doc with ``{}`` where a number stands; the passage must
+occur in the doc (line breaks and runs of spaces count as one space) and each number must
+equal its value to the rounding it is quoted with (half a unit of its last digit). A figure
+the docs quote without a file behind it does not belong in them: rephrase.
 """
 
 import json
@@ -44,6 +44,30 @@ def carsington() -> dict[str, Any]:
 
 def _cars_stage(lift: int) -> dict[str, Any]:
     return carsington()["construction"]["stages"][lift - 1]
+
+
+def carsington_last_lift() -> dict[str, Any]:
+    return _json("docs/summaries/carsington_last_lift.json")
+
+
+def _cars_collapse() -> list[float]:
+    """The fine run's last lift height, the level carried, the collapsing part's top, the
+    fraction of its weight carried [%] and the level that fraction reaches."""
+    s = carsington_last_lift()
+    c, last = s["construction"], s["construction"]["stages"][-1]
+    tops = s["mesh"]["lift_tops_m_OD"]
+    return [tops[-1] - tops[-2], c["fill_level_m_od"], last["top_m_OD"],
+            100 * last["weight_placed"], last["fill_level_m_OD"]]
+
+
+def _cars_node_a() -> dict[float, float]:
+    return dict(map(tuple, carsington()["core_displacement_mm"]["by_fill_level"]))
+
+
+def _node_a(name: str) -> list[float]:
+    candidate = carsington()["core_displacement_mm"]["candidates"][name]
+    return [*candidate["point_m"], *(dx for z, dx in candidate["by_fill_level"]
+                                     if z in (190.0, 198.0))]
 
 
 def r1(run: str) -> dict[str, Any]:
@@ -120,6 +144,25 @@ QUOTES: list[Quote] = [
      lambda: [carsington()["discrete"]["crest_drop_m"]]),
     ("docs/carsington.md", "F after lift 4 is {}:",
      lambda: [_cars_stage(4)["factor_of_safety"]]),
+    ("docs/carsington.md", "The last lift placed in {} m parts: the section carries the fill "
+     "to {} m OD and collapses in the part to {} m OD with {} % of its weight carried, so at "
+     "about **{} m OD**", _cars_collapse),
+    ("docs/carsington.md", "(The complete lifts give node A within {} % of the default run's;",
+     lambda: [max(100 * abs(dx / _cars_node_a()[z] - 1) for z, dx in map(tuple, (
+         carsington_last_lift()["core_displacement_mm"]["by_fill_level"]))
+         if z in _cars_node_a())]),
+    ("docs/carsington.md", "fill level carried (Table 6.3) | 200.5 m OD (design crest) | "
+     "**{} m OD**, collapse in the last lift; in {} m lifts, collapse at {} m OD",
+     lambda: [carsington()["construction"]["fill_level_m_od"], _cars_collapse()[0],
+              _cars_collapse()[4]]),
+    ("docs/carsington.md", "| the core's axis at the foundation level | {} | {} | {} | {} |",
+     lambda: _node_a("axis_foundation_level")),
+    ("docs/carsington.md", "| the core's axis at the top of the boot (default) | {} | {} | {} | "
+     "{} |", lambda: _node_a("axis_boot_top")),
+    ("docs/carsington.md", "| the core's upstream face at the top of the boot | {} | {} | {} | "
+     "{} |", lambda: _node_a("upstream_face_boot_top")),
+    ("docs/carsington.md", "| the core's axis at the berm top | {} | {} | {} | {} |",
+     lambda: _node_a("axis_berm_top")),
     # --- docs/hybrid.md: H2 -----------------------------------------------------------------
     ("docs/hybrid.md", "B = {} m strip (half model {} m x {} m, {} Q4 / Q2 cells, {} m at the "
      "footing edge), c = {} kPa, phi = {} deg, psi = {}, gamma = {} kN/m3 (assumed), E = {} MPa, "

@@ -7,10 +7,17 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from hybrid.continuum.analysis import at_rest_checks
 from hybrid.continuum.plastic import PlasticSolver
 from hybrid.continuum.staging import build_in_lifts, lift_groups, split_into_lifts
 from hybrid.continuum.strength_reduction import SafetyResult
-from hybrid.figures import Column, construction_figures, safety_figures, staged_figures
+from hybrid.figures import (
+    Column,
+    construction_figures,
+    safety_engineering_figures,
+    safety_figures,
+    staged_figures,
+)
 from hybrid.geometry import GeometryError, build_mesh, load_builder
 from hybrid.handover import element_groups, from_construction
 from hybrid.materials import Material
@@ -87,6 +94,51 @@ def test_state_reductions(column):
     top = mesh.cells("lift2:2")
     assert state.extreme_displacement(1, cells=top) == uy[top].min()
     assert state.yielded_fraction(top) == 0.0  # elastic
+    assert state.yielded_fractions({"top": top, "none": top[:0]}) == {
+        "top_yielded_fraction": 0.0, "none_yielded_fraction": 0.0}
+
+
+def test_mesh_report(column):
+    base = column[0]
+    report = base.report()
+    assert report["cells"] == base.num_owned_cells == sum(report["groups"].values())
+    assert report["cell_type"] == base.cell_type
+    assert report["group_areas_m2"] == pytest.approx({"lift1": 4.0, "lift2": 4.0}, rel=1e-12)
+
+
+def test_at_rest_checks(column):
+    """The confined column after all its lifts: at rest under the whole 4 m (the staged
+    placement of an elastic column is oedometric lift by lift); a wrong ground level fails."""
+    _, _, solver, _ = column
+    state = solver.state()
+    found = at_rest_checks(state, (1.0, 1.0), ground_level=4.0, unit_weight=GAMMA, nu=NU)
+    assert set(found.checks) == {"far_field_sigma_v", "far_field_sigma_h"}
+    assert all(c.passed for c in found.checks.values())
+    assert found.checks["far_field_sigma_v"].reference == pytest.approx(-3.0 * GAMMA)
+    assert found.checks["far_field_sigma_h"].reference == pytest.approx(
+        -3.0 * GAMMA * NU / (1 - NU))
+    assert found.stress[1] == found.checks["far_field_sigma_v"].computed
+    high = at_rest_checks(state, (1.0, 1.0), ground_level=5.0, unit_weight=GAMMA, nu=NU)
+    assert not any(c.passed for c in high.checks.values())
+
+
+def test_construction_after_a_collapse(column):
+    """Level carried, the collapsing lift, the history of complete lifts and the last
+    equilibrium (the collapsing lift's cells out of the state, still active in the solver)."""
+    _, mesh, solver, built = column
+    assert built.level_carried == 4.0 and built.collapse is None
+    assert built.history("lift") == [(3.0, 1), (4.0, 2)]
+    stages = [built.stages[0], {**built.stages[1], "completed": False, "weight_placed": 0.4}]
+    collapsed = dataclasses.replace(built, stages=stages, completed=False,
+                                    before_collapse=solver.snapshot())
+    assert collapsed.level_carried == 3.0
+    assert collapsed.collapse == {"lift": 2, "top_m": 4.0, "weight_carried": 0.4}
+    assert collapsed.history("lift") == [(3.0, 1)]
+    state = collapsed.last_equilibrium(solver, mesh)
+    assert np.flatnonzero(~state.active).tolist() == sorted(mesh.cells("lift2:2"))
+    assert solver.active.all()
+    none = dataclasses.replace(collapsed, stages=[{**stages[0], "completed": False}])
+    assert none.level_carried == 2.0  # the base level: no lift carried
 
 
 def test_construction_and_safety_figures(column, tmp_path):
@@ -109,6 +161,16 @@ def test_construction_and_safety_figures(column, tmp_path):
                            circle=SlipCircle(1.4, (1.0, 5.0), 3.0, 0.0, 2.0))
     assert [p.name for p in paths] == ["fos_plastic_strain.png", "fos_mechanism.png"]
     assert all(p.is_file() and p.stat().st_size > 0 for p in paths)
+    # the engineering figures at F: the incremental shear strain only with a mechanism
+    circle = SlipCircle(1.4, (1.0, 5.0), 3.0, 0.0, 2.0)
+    paths = safety_engineering_figures(tmp_path / "a", safety, circle=circle, window=window)
+    assert [p.name for p in paths] == ["fos_deformed_mesh.png", "fos_shear_strain.png",
+                                       "fos_plastic_points.png"]
+    confirmed = dataclasses.replace(safety, mechanism_confirmed=True)
+    paths = safety_engineering_figures(tmp_path / "b", confirmed, prefix="f_")
+    assert paths[-1].name == "f_incremental_shear_strain.png" and len(paths) == 4
+    with pytest.raises(ValueError, match="no state"):
+        safety_engineering_figures(tmp_path, dataclasses.replace(safety, state=None))
 
 
 def test_staged_figures(column, tmp_path):

@@ -4,7 +4,8 @@
 :class:`~hybrid.continuum.plastic.PlasticSolver` returns (the target reached, or the last
 converged factor) with the tests that decide whether a stage that stopped short found a
 collapse or a limit load (``require*``); :func:`runaway_ratio` and :func:`plateau_rise` read
-a curve, :func:`largest_nodal_norm` the largest nodal displacement over the MPI ranks.
+a curve, :func:`largest_nodal_norm` the largest nodal displacement over the MPI ranks;
+:func:`at_rest_checks` compares the stress in level ground under its own weight with K0.
 """
 
 from __future__ import annotations
@@ -12,14 +13,17 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 from mpi4py import MPI
 
 from hybrid.errors import StageIncomplete
+from hybrid.io import Check
+from hybrid.references import oedometer_stress
 
-__all__ = ["Analysis", "largest_nodal_norm", "plateau_rise", "runaway_ratio"]
+__all__ = ["Analysis", "AtRest", "at_rest_checks", "largest_nodal_norm", "plateau_rise",
+           "runaway_ratio"]
 
 
 @dataclass
@@ -138,3 +142,34 @@ def runaway_ratio(factor: Sequence[float], displacement: Sequence[float]) -> flo
     if first <= 0.0:
         return math.inf if last > 0.0 else 1.0
     return float(last / first)
+
+
+class AtRest(NamedTuple):
+    """What :func:`at_rest_checks` found.
+
+    ``stress`` (4,) at the point [kPa]; ``checks`` "far_field_sigma_v" and
+    "far_field_sigma_h".
+    """
+
+    stress: np.ndarray
+    checks: dict[str, Check]
+
+
+def at_rest_checks(state: Any, point: Sequence[float], *, ground_level: float,
+                   unit_weight: float, nu: float, tolerance: float = 0.01,
+                   where: str = "below level ground") -> AtRest:
+    """The stress at ``point`` (x, y) [m] of level elastic ground under its own weight.
+
+    Far from any load, the ground is laterally confined: sigma_v = -gamma z and
+    sigma_h = K0 sigma_v, K0 = nu / (1 - nu), with z the depth below ``ground_level`` [m]
+    (:func:`~hybrid.references.oedometer_stress`); each within ``tolerance`` (relative).
+    ``state``: a :class:`~hybrid.continuum.state.ContinuumState`; ``where`` ends the
+    description of sigma_v's check. Collective under MPI.
+    """
+    stress = state.stress_at(np.array([point], dtype=float))[0]
+    sv, sh = oedometer_stress(unit_weight, nu, np.array(ground_level - float(point[1])))
+    return AtRest(stress, {
+        "far_field_sigma_v": Check(float(stress[1]), float(sv), tolerance, "kPa",
+                                   f"gamma z {where}"),
+        "far_field_sigma_h": Check(float(stress[0]), float(sh), tolerance, "kPa",
+                                   "K0 gamma z, K0 = nu / (1 - nu)")})

@@ -110,6 +110,8 @@ class Construction:
         safety_wall_time: seconds spent in the strength reduction.
         before_collapse: when a lift collapsed, the solver's snapshot of the last complete
             lift (``PlasticSolver.restore`` it); None when every lift was placed.
+        base_level: the level below the first lift [m].
+        unit: the elevations' unit in the stage records' keys ("top_<unit>").
     """
 
     stages: list[dict[str, Any]]
@@ -120,6 +122,55 @@ class Construction:
     safety_active: np.ndarray
     safety_wall_time: float
     before_collapse: tuple | None
+    base_level: float = 0.0
+    unit: str = "m"
+
+    @property
+    def complete(self) -> list[dict[str, Any]]:
+        """The records of the lifts that carried their full weight."""
+        return [st for st in self.stages if st["completed"]]
+
+    @property
+    def level_carried(self) -> float:
+        """Top of the last complete lift (``base_level`` when none was) [m]."""
+        done = self.complete
+        return done[-1][f"top_{self.unit}"] if done else self.base_level
+
+    @property
+    def collapse(self) -> dict[str, Any] | None:
+        """The collapsing lift (None when every lift was placed).
+
+        "lift", "top_<unit>" and "weight_carried" (the fraction of its weight in equilibrium).
+        """
+        if self.completed:
+            return None
+        last = self.stages[-1]
+        return {"lift": last["lift"], f"top_{self.unit}": last[f"top_{self.unit}"],
+                "weight_carried": last["weight_placed"]}
+
+    def history(self, key: str) -> list[tuple[float, Any]]:
+        """(top of the lift, its record's ``key``) of every complete lift.
+
+        E.g. a value recorded by the ``monitor`` of :func:`build_in_lifts`.
+        """
+        return [(st[f"top_{self.unit}"], st[key]) for st in self.complete]
+
+    def last_equilibrium(self, solver: PlasticSolver, mesh: MeshData) -> ContinuumState:
+        """The state the figures and numbers of a construction come from.
+
+        The end of construction, or after a collapse the last complete lift: ``solver`` is
+        restored to it and the collapsing lift's cells are left out of the state (the
+        solver keeps them active, as :func:`~hybrid.handover.from_construction` hands them
+        over in place).
+        """
+        if self.before_collapse is None:
+            return solver.state()
+        solver.restore(self.before_collapse)
+        state = solver.state()
+        collapsing = np.isin(np.arange(mesh.num_owned_cells), np.concatenate(
+            [mesh.cells(name) for name in lift_groups(mesh, self.stages[-1]["lift"])]))
+        state.active = ~collapsing if state.active is None else state.active & ~collapsing
+        return state
 
 
 def build_in_lifts(solver: PlasticSolver, mesh: MeshData, tops: Sequence[float],
@@ -188,4 +239,4 @@ def build_in_lifts(solver: PlasticSolver, mesh: MeshData, tops: Sequence[float],
             stage["fos_wall_time_s"] = time.perf_counter() - t0
     completed = stages[-1]["completed"] and len(stages) == lifts
     return Construction(stages, completed, leak, placement, result, safety_active, fos_time,
-                        None if completed else before)
+                        None if completed else before, base_level, unit)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -126,6 +127,14 @@ class ContinuumState:
         """
         hit = int(np.isin(self.yielded_cells(), cells).sum())
         return self.comm.allreduce(hit) / max(self.comm.allreduce(len(cells)), 1)
+
+    def yielded_fractions(self, groups: Mapping[str, np.ndarray]) -> dict[str, float]:
+        """:meth:`yielded_fraction` of each named set of cells, keyed "<name>_yielded_fraction".
+
+        ``groups``: name -> owned cell indices, e.g. ``{name: mesh.cells(name)}``. Collective.
+        """
+        return {f"{name}_yielded_fraction": self.yielded_fraction(cells)
+                for name, cells in groups.items()}
 
     def stress_function(self) -> Any:
         """Stress projected on discontinuous Lagrange of degree - 1 (DG0 for degree 1) [kPa]."""

@@ -5,21 +5,24 @@ coincided then, so their separation is the slip (sliding and opening together).
 :class:`SlipSurface` gathers the slip-surface measures of a run; :class:`SlopeMarks` picks a
 slope's crest and toe at the start of a run and measures how far they moved at its end;
 :class:`FootingMarks` does the same for a footing (settlement) and the ground beside it (heave);
-:func:`deposit` measures where a mass that spread over a floor came to rest.
+:func:`deposit` measures where a mass that spread over a floor came to rest;
+:func:`mean_displacement` is the mean movement of a set of elements.
 """
 
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import NamedTuple
+from typing import Any, NamedTuple
 
 import numpy as np
 
 from hybrid.discrete.state import DiscreteState
+from hybrid.io import Check
 
 __all__ = ["interface_slip", "slip_surface", "slip_trace", "slipped_interfaces", "SlipSurface",
-           "SlopeMarks", "SlopeMovement", "FootingMarks", "Deposit", "deposit"]
+           "SlopeMarks", "SlopeMovement", "FootingMarks", "Deposit", "deposit",
+           "mean_displacement"]
 
 
 def interface_slip(state: DiscreteState) -> np.ndarray:
@@ -115,6 +118,30 @@ class SlipSurface:
         """
         segments = state.x[state.interface_nodes[self.interfaces][:, :2]]
         return {f"slip surface: slipped >= {self.min_slip:g} m": segments}
+
+    def summary(self) -> dict[str, Any]:
+        """Its measures for a case's summary.
+
+        "slip_surface_interfaces", the interfaces of each element set ("slip_surface_<set>",
+        :attr:`through`), "slip_surface_trace_m", "slipped_interfaces_by_threshold_m".
+        """
+        return {"slip_surface_interfaces": int(self.interfaces.sum()),
+                **{f"slip_surface_{name}": n for name, n in self.through.items()
+                   if name != "interfaces"},
+                "slip_surface_trace_m": self.trace,
+                "slipped_interfaces_by_threshold_m": self.by_threshold}
+
+    def checks(self, sets: Mapping[str, str]) -> dict[str, Check]:
+        """Checks "slip_surface_through_<set>": the surface runs through each set.
+
+        That is, an interface on the surface has an element of the set on a side. ``sets``:
+        the element sets measured by :meth:`of`, by name -> the set's element in words
+        (e.g. "a clay element").
+        """
+        return {f"slip_surface_through_{name}": Check(
+            float(self.through[name] > 0), 1.0, 0.0, "-",
+            f"failed interfaces slipped >= {self.min_slip} m with {element}")
+            for name, element in sets.items()}
 
 
 class SlopeMovement(NamedTuple):
@@ -280,3 +307,12 @@ def deposit(state: DiscreteState, elements: np.ndarray, *, wall_x: float = 0.0,
     centres = (np.arange(n_bins) + 0.5) * bin_width
     return Deposit(reach, float(y.max()), inside, int(idx.size - inside.size),
                    np.column_stack([centres, top]))
+
+
+def mean_displacement(state: DiscreteState, elements: np.ndarray) -> tuple[float, float]:
+    """Mean displacement (x, y) [m] of the nodes of ``elements`` (an (n_elements,) mask).
+
+    Counted from the state's reference geometry (``x_ref``: the start of the discrete phase).
+    """
+    u = (state.x - state.x_ref)[state.element_nodes[elements]]
+    return float(np.mean(u[..., 0])), float(np.mean(u[..., 1]))
