@@ -224,7 +224,8 @@ def _collapse_extra(summary: CaseSummary) -> dict[str, Check]:
 def _collapse_mesh_extra(summary: CaseSummary) -> dict[str, Check]:
     """:func:`_collapse_extra` and the run-out's change when the grains are twice as large.
 
-    Runs the case again with ``nx`` halved, into the ``nx<n>`` folder of the case's output.
+    Runs the case script of :data:`CASES_DIR` again with ``nx`` halved, into the ``nx<n>``
+    folder of the case's output.
     """
     from hybrid.case import load_case
 
