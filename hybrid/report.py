@@ -332,6 +332,11 @@ def _counts(results: Sequence[Mapping[str, Any]]) -> dict[str, int]:
     return counts
 
 
+def _series(case_id: str) -> str:
+    """The series of a case id: its leading letters ("C" for "C6-psi0", "R" for "R1-a2")."""
+    return case_id[:len(case_id) - len(case_id.lstrip("ABCDEFGHIJKLMNOPQRSTUVWXYZ"))]
+
+
 def _section(r: Mapping[str, Any]) -> list[str]:
     lines = [f"## {r['id']}: {r['title']}", "",
              f"- status: {_MARK[r['status']]}"
@@ -355,23 +360,31 @@ def _section(r: Mapping[str, Any]) -> list[str]:
 
 def write_report(results: Sequence[Mapping[str, Any]],
                  out_dir: str | Path = Path("results/verify"), *, full: bool = False,
-                 json_path: str | Path | None = None) -> Path:
+                 json_path: str | Path | None = None,
+                 series: Mapping[str, tuple[str, str]] | None = None) -> Path:
     """Write ``report.md``, ``results.json`` and ``figures/`` into ``out_dir``.
 
     ``results``: entries of :func:`hybrid.verification.run_cases`. Figures are copied to
     ``figures/<id>_<name>.png`` (re-encoded above 200 KB) and the entries' ``figures`` become
-    paths relative to ``out_dir``. ``json_path``: a second copy of results.json. Returns the
-    path of report.md.
+    paths relative to ``out_dir``. ``json_path``: a second copy of results.json. ``series``:
+    {letter of the ids: (title, text)}, an introduction written before the first section of
+    the series (default: :data:`hybrid.verification.SERIES`). Returns the path of report.md.
     """
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
     entries: list[dict[str, Any]] = [dict(r) for r in results]
     _collect_figures(entries, out_dir)
+    if series is None:
+        from hybrid.verification import SERIES
+
+        series = SERIES
+    intros = {k: v for k, v in series.items() if any(_series(e["id"]) == k for e in entries)}
     root = Path(hybrid.__file__).resolve().parent.parent
     counts = _counts(entries)
     meta = {"generated_utc": _dt.datetime.now(_dt.UTC).strftime("%Y-%m-%d %H:%M:%S"),
             "hybrid": hybrid.__version__, "git_commit": _git_commit(root),
-            "mode": "full" if full else "fast (reduced overrides)", "counts": counts}
+            "mode": "full" if full else "fast (reduced overrides)", "counts": counts,
+            "series": {k: {"title": t, "text": x} for k, (t, x) in intros.items()}}
     payload = _finite({"meta": meta, "cases": entries})
     text = json.dumps(payload, indent=1, default=_json_default, allow_nan=False) + "\n"
     (out_dir / "results.json").write_text(text)
@@ -394,6 +407,10 @@ def write_report(results: Sequence[Mapping[str, Any]],
         lines.append("| " + " | ".join(_md_escape(c) for c in row) + " |")
     lines.append("")
     for r in entries:
+        letter = _series(r["id"])
+        if letter in intros and r is next(e for e in entries if _series(e["id"]) == letter):
+            title, text = intros[letter]
+            lines += [f"## {title}", "", text, ""]
         lines += _section(r)
     md = out_dir / "report.md"
     md.write_text("\n".join(lines).rstrip() + "\n")

@@ -35,6 +35,36 @@ def main(out="x", **overrides):
 '''
 
 
+# the granular collapse (R1) as a stub: the deposit of a run, the case's own references
+COLLAPSE_STUB = '''
+from dataclasses import dataclass
+from pathlib import Path
+from hybrid.io import CaseSummary, Check
+
+REFS = %r  # the case's references(aspect), by aspect
+RUNOUT = {0.5: 0.8, 1.0: 2.2, 2.0: 4.4}  # (L_inf - L0) / L0 on the shipped grains
+HEIGHT = {0.5: 1.0, 1.0: 0.99, 2.0: 0.58}  # H_inf / H0
+
+
+@dataclass
+class Parameters:
+    aspect: float = 0.5
+    nx: int = 20
+    progress: bool = True
+
+
+def main(out="x", **overrides):
+    p = Parameters(**overrides)
+    Path(out).mkdir(parents=True, exist_ok=True)
+    runout_m = 0.2 * (1.0 + RUNOUT[p.aspect]) * (1.0 + 1.0 / p.nx)  # longer on coarse grains
+    return CaseSummary("granular_collapse (R1)", out, p, {
+        "energy_excess_over_sources": Check(0.0, 0.0, 0.01, "-", "energy"),
+        "mass_conserved": Check(1.0, 1.0, 1e-12, "t/m")}, {"deposit": {
+            "runout_m": runout_m, "normalised_runout": RUNOUT[p.aspect],
+            "height_over_H0": HEIGHT[p.aspect], "references": REFS[p.aspect]}})
+'''
+
+
 def _is_png(path):
     return path.is_file() and path.read_bytes()[:8] == PNG_SIGNATURE
 
@@ -206,11 +236,80 @@ def test_large_png_is_reencoded_under_the_cap(tmp_path):
 
 @pytest.mark.slow
 def test_verify_whole_registry(tmp_path):
-    """Every registered case (fast overrides) meets its bar or is reported: exit code 0."""
+    """Every registered case (fast overrides) runs, and meets its bars or is reported, but
+    for the 15 % bar of the granular collapse against the aluminium rods, which the R-series
+    reports as missed (its section says why)."""
     results = verification.run_cases(None, tmp_path / "runs")
-    bad = [(r["id"], r["status"], r["message"]) for r in results
-           if r["status"] in ("failed", "error")]
-    assert not bad
-    assert verification.exit_code(results) == 0
+    errors = [(r["id"], r["message"]) for r in results if r["status"] == "error"]
+    assert not errors
+    missed = [(r["id"], row["name"]) for r in results for row in r["rows"]
+              if row["passed"] is False]
+    assert all(key.startswith("R1-") and name in ("runout_vs_rods2015",
+                                                  "final_height_vs_rods2015")
+               for key, name in missed), missed
+    assert verification.exit_code(results) == int(bool(missed))
     md = report.write_report(results, tmp_path / "report").read_text()
     assert all(f"| {r['id']} |" in md for r in results)
+
+
+def test_r_series_rows_and_section(tmp_path, monkeypatch, case):
+    """The R-series from a stub of cases/granular_collapse.py: one entry per aspect ratio
+    (0.5, 1, 2) with rows of run-out and final height against the aluminium rods (bar 15 %) and
+    Lube's sand laws (reported; no row has a reference where its law is silent), the case's
+    energy check, and at a = 0.5 the run-out's change on grains twice as large (a second run
+    with nx halved, bar 10 %). A missed rod bar fails its entry; the report writes the
+    series' introduction once, before the first R section."""
+    refs = {a: case("granular_collapse").references(a) for a in (0.5, 1.0, 2.0)}
+    cases_dir = tmp_path / "cases"
+    cases_dir.mkdir()
+    (cases_dir / "granular_collapse.py").write_text(COLLAPSE_STUB % refs)
+    monkeypatch.setattr(verification, "CASES_DIR", cases_dir)
+    results = verification.run_cases(["R1"], tmp_path / "runs")
+    res = {r["id"]: r for r in results}
+    assert list(res) == ["R1-a0.5", "R1-a1", "R1-a2"]
+    names = ["energy_excess_over_sources", "runout_vs_rods2015", "final_height_vs_rods2015",
+             "runout_vs_lube2005", "final_height_vs_lube2005"]
+    assert [r["name"] for r in res["R1-a0.5"]["rows"]] == [*names,
+                                                          "runout_change_on_halving_mesh"]
+    for key in ("R1-a1", "R1-a2"):
+        assert [r["name"] for r in res[key]["rows"]] == names
+    rows = {(key, r["name"]): r for key, e in res.items() for r in e["rows"]}
+    expected = {  # (reference, bar) from hybrid.references, not from the case
+        ("R1-a0.5", "runout_vs_rods2015"): (None, None),
+        ("R1-a0.5", "final_height_vs_rods2015"): (1.0, 0.15),
+        ("R1-a0.5", "runout_vs_lube2005"): (0.6, None),
+        ("R1-a0.5", "final_height_vs_lube2005"): (1.0, None),
+        ("R1-a1", "runout_vs_rods2015"): (references.granular_runout_rods2015(1.0), 0.15),
+        ("R1-a1", "final_height_vs_rods2015"): (1.0 / 1.42, 0.15),
+        ("R1-a1", "runout_vs_lube2005"): (references.granular_runout_lube2005(1.0), None),
+        ("R1-a1", "final_height_vs_lube2005"): (1.0, None),
+        ("R1-a2", "runout_vs_rods2015"): (3.80 * 2.0**0.73, 0.15),
+        ("R1-a2", "final_height_vs_rods2015"): (1.0 / (1.42 * 2.0 ** (2 / 3)), 0.15),
+        ("R1-a2", "runout_vs_lube2005"): (None, None),  # between Lube's two regimes
+        ("R1-a2", "final_height_vs_lube2005"): (2.0**0.4 / 2.0, None)}
+    for (key, name), (reference, bar) in expected.items():
+        row = rows[key, name]
+        assert row["bar"] == bar, (key, name)
+        if reference is None:
+            assert row["reference"] is None and row["passed"] is None, (key, name)
+        else:
+            assert row["reference"] == pytest.approx(reference, rel=1e-12), (key, name)
+    assert rows["R1-a1", "runout_vs_rods2015"]["computed"] == 2.2
+    assert rows["R1-a2", "final_height_vs_rods2015"]["computed"] == 0.58
+    # reduced run: grains of L0 / 16 at a = 0.5 against L0 / 8 in the nx8 folder
+    mesh = rows["R1-a0.5", "runout_change_on_halving_mesh"]
+    assert mesh["computed"] == pytest.approx((1 / 8 - 1 / 16) / (1 + 1 / 16), rel=1e-12)
+    assert mesh["reference"] == 0.0 and mesh["bar"] == 0.10 and mesh["passed"] is True
+    assert (tmp_path / "runs" / "R1-a0.5" / "nx8").is_dir()
+    assert [e["status"] for e in results] == ["passed", "failed", "failed"]
+    assert verification.exit_code(results) == 1
+    assert all("nx" not in verification.CASES[k].full_overrides for k in res)  # L0 / 20
+    md = report.write_report(results, tmp_path / "report").read_text()
+    title = verification.SERIES["R"][0]
+    assert md.count(f"## {title}") == 1
+    assert md.index(f"## {title}") < md.index("## R1-a0.5")
+    assert "| R1-a1 | `runout_vs_rods2015` | 2.2 | 3.25 | 32.3 % | 15 % | **FAIL** |" in md
+    meta = json.loads((tmp_path / "report" / "results.json").read_text())["meta"]
+    assert meta["series"] == {"R": {"title": title, "text": verification.SERIES["R"][1]}}
+    c1_only = report.write_report([{**results[0], "id": "C1"}], tmp_path / "c").read_text()
+    assert title not in c1_only
