@@ -230,7 +230,7 @@ def main(out: str | Path = "results/footing_failure", **overrides) -> CaseSummar
                 marks={**when, "rest run starts": loaded.time},
                 title="H2: energy of the discrete phase (loading, unloading, rest)")
     plot_configuration(out / "final.png", disc, window=window, outline=True,
-                       title=f"{settled.ending}: settlement {marks.total_settlement(disc):.3f} m "
+                       title=f"{settled.ending}\nsettlement {marks.total_settlement(disc):.3f} m "
                              f"({settlement:.3f} m since handover), "
                              f"{int((~disc.interface_intact).sum())} failed interfaces")
     return summary
