@@ -26,8 +26,8 @@ Set-up
     lift only the fraction of its weight carried is reported (``last_lift_parts``: the last
     lift in parts, for the level of a collapse in it). After every complete lift: the
     horizontal displacement at node A (``node_a_x``, ``node_a_y``; also at the other places
-    the thesis's words allow, ``node_a_candidates``) and F (c and tan(phi) divided by F until
-    no equilibrium, from that lift's state, restored afterwards).
+    the thesis's words allow, ``Section.node_a_candidates``) and F (c and tan(phi) divided by
+    F until no equilibrium, from that lift's state, restored afterwards).
     Discrete phase (``discrete_phase``): from the end of construction (the design height) or,
     after a collapse, from the last complete lift with the collapsing lift placed whole; the
     yielded cells + ``region_layers`` may split, the foundation is held; run to rest.
@@ -54,58 +54,36 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 from types import ModuleType
-from typing import Any, NamedTuple
+from typing import Any
 
 import numpy as np
 
 from hybrid.case import uses_defaults
-from hybrid.continuum import ContinuumState, NewtonOptions, PlasticSolver
+from hybrid.continuum import NewtonOptions, PlasticSolver
 from hybrid.continuum.analysis import at_rest_checks
 from hybrid.continuum.limit_equilibrium import bishop_circle
 from hybrid.continuum.probe import evaluate
-from hybrid.continuum.staging import Construction, build_in_lifts, split_into_lifts
+from hybrid.continuum.staging import Construction, build_in_lifts, lift_materials, split_into_lifts
 from hybrid.continuum.strength_reduction import StrengthSearch
-from hybrid.discrete.energy import conservation_checks, energy_peak_ratio
 from hybrid.discrete.figures import plot_configuration
 from hybrid.discrete.integrate import stable_time_step
 from hybrid.discrete.measures import SlipSurface, SlopeMarks, mean_displacement
 from hybrid.discrete.runs import run_to_rest
 from hybrid.discrete.solver import RunOptions
-from hybrid.figures import (
-    Band,
-    Column,
-    engineering_figures,
-    plot_level_history,
-    safety_engineering_figures,
-    staged_figures,
-)
+from hybrid.figures import Column, plot_level_history, staged_figures
 from hybrid.geometry import build_mesh, load_mesh_script
 from hybrid.handover import Region, element_groups, from_construction
 from hybrid.io import CaseSummary, Check, write_continuum_xdmf
 from hybrid.materials import Bond, Contact, Material
 from hybrid.model import Fixed, Model, Roller
 from hybrid.parameters import CELLS, CaseParameters, param
+from hybrid.references import CARSINGTON_CORE_DISPLACEMENT, CARSINGTON_FOS, CARSINGTON_REPORT_LEVELS
 
 MESHES = Path(__file__).resolve().parent.parent / "meshes"
 EMBANKMENT = ("core", "zone_I", "zone_II", "berm")  # built in lifts
 GROUND = ("foundation", "yellow_clay")  # in place before construction
 SECTION = ("yellow_clay_thickness", "yellow_clay_length", "boot_length", "lifts",
            "last_lift_parts")
-
-FAILURE_FILL_LEVEL = 199.5  # fill level when the upstream slope slipped [m OD] (Skempton 1985)
-PUBLISHED_FOS = {  # factors of safety at Ch. 725 (thesis 6.2.5, 6.3; Chen et al. 1992)
-    "limit_equilibrium_intact_peak": (1.4, "LE, intact peak strengths (> 1.4)"),
-    "limit_equilibrium_pre_sheared": (1.2, "LE, reduced yellow-clay strength for pre-shears"),
-    "finite_element_before_collapse": (1.1, "FE (strain softening), just before collapse"),
-}
-# horizontal displacement of the core at node A [mm] (thesis 6.3.1.2, Figure 6.19):
-# (label, low, high, fill level low, high [m OD])
-CORE_DISPLACEMENT_BANDS = (
-    Band("thesis: about 150 mm up to 198 m OD", 140.0, 160.0, 198.0, 198.0),
-    Band("thesis: 400-450 mm at 200.5 m OD", 400.0, 450.0, 200.5, 200.5),
-    Band("observed at the core's base: 200-275 mm", 200.0, 275.0, 199.0, 200.0),
-    Band("Chen (1992), finite elements: 100-150 mm", 100.0, 150.0, 199.0, 200.0))
-REPORT_LEVELS = (198.0, 200.5)  # fill levels of the thesis's core displacements [m OD]
 
 # the fields that make the modelled section the thesis's (published figures apply with them)
 PUBLISHED_PROBLEM = (*SECTION, "no_tension", "foundation_E", "foundation_nu", "foundation_gamma",
@@ -174,17 +152,6 @@ class Parameters(CaseParameters):
     progress: bool = True  # progress bar of the discrete run
 
 
-class ContinuumPhase(NamedTuple):
-    """What the continuum phase leaves for the discrete phase: the ``solver`` at the last
-    equilibrium of construction, a copy of its ``state``, the lift-by-lift record
-    (``construction``) and the ``summary``."""
-
-    solver: PlasticSolver
-    state: ContinuumState
-    construction: Construction
-    summary: CaseSummary
-
-
 def materials(p: Parameters) -> dict[str, Material]:
     """Thesis Table 6.3 (undrained total stress), psi = 0, no tension in the fill and the
     clays (``no_tension``); the berm as Zone II (the thesis's mesh has no berm group).
@@ -225,27 +192,17 @@ def section(p: Parameters) -> Any:
     return section_module().Section(**{k: getattr(p, k) for k in SECTION})
 
 
-def node_a_candidates(g: Any) -> dict[str, tuple[float, float]]:
-    """Where in the core the thesis's node A may be [m, m OD] (measured beside it).
-
-    The thesis calls it "node A in the core" and compares its displacement with the
-    deflection observed "within the core at the base" (6.3.1.2); no more locates it.
-    """
-    boot_top = g.foundation_level + g.boot_height
-    face = 0.5 * g.core_top_width + g.core_batter * (g.crest_level - boot_top)
-    return {"axis_foundation_level": (0.0, g.foundation_level), "axis_boot_top": (0.0, boot_top),
-            "upstream_face_boot_top": (-face, boot_top), "axis_berm_top": (0.0, g.berm_top)}
-
-
-def continuum_phase(p: Parameters, out: Path) -> ContinuumPhase:
+def continuum_phase(p: Parameters, out: Path
+                    ) -> tuple[PlasticSolver, Construction, CaseSummary]:
     """Gravity on the foundation, the lifts to the crest (or to collapse), node A and F after
-    each complete lift; writes the continuum outputs to ``out``."""
+    each complete lift; writes the continuum outputs to ``out``. Returns the solver at the
+    last equilibrium of construction, the lift-by-lift record and the summary."""
     start, g = time.perf_counter(), section(p)
     base_mesh = build_mesh(section_module().build, size=p.size, layer_size=p.layer_size,
                            cells=p.cells, **{k: getattr(p, k) for k in SECTION})
     tops = section_module().lift_tops(g.crest_level, g.berm_top, p.lifts, p.last_lift_parts)
-    mesh, table = split_into_lifts(base_mesh, EMBANKMENT, tops), materials(p)
-    model = Model(mesh, {name: table[name.split(":")[0]] for name in mesh.cell_groups},
+    mesh = split_into_lifts(base_mesh, EMBANKMENT, tops)
+    model = Model(mesh, lift_materials(mesh, materials(p)),
                   supports=[Fixed("base"), Roller("left", "x"), Roller("right", "x")])
     solver = PlasticSolver(model, degree=p.degree,
                            options=NewtonOptions(min_increment=p.min_increment))
@@ -262,7 +219,7 @@ def continuum_phase(p: Parameters, out: Path) -> ContinuumPhase:
     solver.reset_displacement()
 
     # stages 2-6: the lifts; node A and F after each complete lift
-    candidates = node_a_candidates(g)
+    candidates = g.node_a_candidates()
     node_a = np.array([[p.node_a_x, p.node_a_y], *candidates.values()])
 
     def monitor(s: PlasticSolver) -> dict[str, Any]:
@@ -280,29 +237,24 @@ def continuum_phase(p: Parameters, out: Path) -> ContinuumPhase:
     construction_time = time.perf_counter() - start - built.safety_wall_time
     carried, history, safety = built.level_carried, built.history("node_A_dx_mm"), built.safety
     at_level = {f"{z:g}": next((dx for top, dx in history if top == z), None)
-                for z in REPORT_LEVELS}
-
+                for z in CARSINGTON_REPORT_LEVELS}
     circle = None if safety is None else bishop_circle(model, built.safety_active)
+
+    # figures: the end of construction (or the last equilibrium), node A against the fill level
     window = (g.berm_toe - 30.0, g.foundation_level - 25.0, g.downstream_toe + 30.0,
               g.crest_level + 3.0)
     core = np.isin(np.arange(base_mesh.num_owned_cells), base_mesh.cells("core")) & state.active
     column = Column(core, p.node_a_x, g.foundation_level - g.trench_depth + 0.1,
                     g.crest_level - 0.1, tops, "the axis", "core")
-    m_od = "elevation [m OD]"
     paths = staged_figures(out, base_mesh, state, built, window=window, column=column,
-                           circle=circle, elevation_label=m_od)
+                           circle=circle, elevation_label="elevation [m OD]",
+                           engineering=f"fill at {carried:g} m OD")
     paths.append(plot_level_history(
         out / "core_displacement_vs_fill_level.png", [g.foundation_level] + [z for z, _ in history],
-        [0.0] + [abs(dx) for _, dx in history], bands=CORE_DISPLACEMENT_BANDS,
+        [0.0] + [abs(dx) for _, dx in history], bands=CARSINGTON_CORE_DISPLACEMENT,
         label=f"this analysis, node A ({p.node_a_x:g} m, {p.node_a_y:g} m OD)",
         xlabel="horizontal displacement of the core at node A, |u_x| [mm]",
         ylabel="fill level [m OD]", title="Core displacement against fill level"))
-    paths += engineering_figures(out, state, prefix="end_of_construction_",
-                                 when=f"fill at {carried:g} m OD", window=window,
-                                 elevation_label=m_od)
-    if safety is not None and circle is not None:
-        paths += safety_engineering_figures(out, safety, circle=circle, window=window,
-                                            elevation_label=m_od)
     write_continuum_xdmf(out / "continuum.xdmf", state)
 
     clays = {name: base_mesh.cells(name) for name in ("yellow_clay", "core")}
@@ -325,47 +277,43 @@ def continuum_phase(p: Parameters, out: Path) -> ContinuumPhase:
                     (z, dx[name]) for z, dx in built.history("core_dx_mm")]}
                 for name, point in candidates.items()}},
         "figures": [str(f) for f in paths]},
-        checks={**far.checks, "max_stress_in_unplaced_lifts": Check(
-            built.max_unplaced_stress, 0.0, 0.0, "kPa", "exactly zero")})
+        checks={**far.checks, **built.checks()})
     published, checks = uses_defaults(p, PUBLISHED_PROBLEM), summary["checks"]
     checks["fill_level_vs_thesis"] = Check.published(
         carried, g.crest_level, None, "m OD", "thesis: stands to the design crest (Table 6.3)",
         applies=published)
-    for band, (level, dx) in zip(CORE_DISPLACEMENT_BANDS, at_level.items()):
+    for band, (level, dx) in zip(CARSINGTON_CORE_DISPLACEMENT, at_level.items()):
         if dx is not None:
             checks[f"core_displacement_{level}_vs_thesis"] = Check.published(
                 abs(dx), 0.5 * (band.low + band.high), None, "mm", band.label,
                 applies=published)
     if safety is not None and circle is not None:
-        lift = max(st["lift"] for st in built.stages if "factor_of_safety" in st)
         summary["factor_of_safety"] = {
-            **safety.as_dict(), "after_lift": lift, "fill_level_m_OD": tops[lift - 1],
-            "strength_factor_of_construction": p.strength_factor,
-            **safety.state.yielded_fractions(clays),
-            "wall_time_s": built.safety_wall_time, "bishop": circle.as_dict()}
+            **built.safety_report(), "strength_factor_of_construction": p.strength_factor,
+            **safety.state.yielded_fractions(clays), "bishop": circle.as_dict()}
         checks["fos_vs_bishop"] = Check(
             safety.factor, circle.factor, None, "-",
             "this project's Bishop simplified search over circles, same section and lift")
-        for key, (value, source) in PUBLISHED_FOS.items() if built.completed else ():
+        for key, (value, source) in CARSINGTON_FOS.items() if built.completed else ():
             checks[f"fos_vs_{key}"] = Check.published(safety.factor, value, None, "-", source,
                                                       applies=published)
     summary["continuum_wall_time_s"] = time.perf_counter() - start
-    return ContinuumPhase(solver, state, built, summary)
+    return solver, built, summary
 
 
 def main(out: str | Path = "results/carsington", **overrides) -> CaseSummary:
     """Carsington Dam Ch. 725: staged construction, factor of safety, post-failure run."""
     p = Parameters(**overrides)
     out = Path(out)
-    phase = continuum_phase(p, out)
-    summary = phase.summary
+    solver, built, summary = continuum_phase(p, out)
     if p.discrete_time > 0.0:
-        summary.update(discrete_phase(phase, p, out))
-    summary.write(out / "summary.json", phase.state.comm)
+        summary.update(discrete_phase(solver, built, summary["checks"], p, out))
+    summary.write(out / "summary.json", solver.model.mesh.comm)
     return summary
 
 
-def discrete_phase(phase: ContinuumPhase, p: Parameters, out: Path) -> dict[str, Any]:
+def discrete_phase(solver: PlasticSolver, built: Construction, continuum_checks: dict[str, Check],
+                   p: Parameters, out: Path) -> dict[str, Any]:
     """Handover and the post-failure run to rest (or ``discrete_time``).
 
     The start: the end of construction (the design height) or, when a lift collapsed, the
@@ -373,9 +321,8 @@ def discrete_phase(phase: ContinuumPhase, p: Parameters, out: Path) -> dict[str,
     all its weight. The yielded cells grown by ``region_layers`` may split; the foundation
     (elastic, "strong base") is held.
     """
-    start, before = time.perf_counter(), phase.construction.before_collapse
-    hand = from_construction(phase.solver, phase.construction,
-                             region=Region(layers=p.region_layers))
+    start = time.perf_counter()
+    hand = from_construction(solver, built, region=Region(layers=p.region_layers))
     if hand.discrete is None:  # MPI ranks other than 0
         return {}
     disc, g, group = hand.discrete, section(p), element_groups(hand)  # lifts merged
@@ -385,7 +332,6 @@ def discrete_phase(phase: ContinuumPhase, p: Parameters, out: Path) -> dict[str,
     upstream_shoulder = np.isin(group, ["zone_I", "zone_II", "berm"]) & (centroid[:, 0] < 0.0)
     half_crest = 0.5 * g.crest_width + 10.0  # the fill top near the axis
     slope = SlopeMarks.pick(disc, ~np.isin(group, GROUND), crest_x=(-half_crest, half_crest))
-    mass0, n0 = float(disc.mass.sum()), disc.n_elements
     window = (g.berm_toe - 40.0, g.foundation_level - 15.0, g.downstream_toe + 20.0,
               g.crest_level + 5.0)
     options = RunOptions(dt=0.5 * stable_time_step(disc, contact=True),
@@ -395,7 +341,7 @@ def discrete_phase(phase: ContinuumPhase, p: Parameters, out: Path) -> dict[str,
     run = run_to_rest(disc, out, options, until_time=p.discrete_time, rest=p.rest,
                       frames=p.frames, snapshot_times=(1.0, 3.0, 6.0, 10.0), window=window,
                       progress=p.progress)
-    res, h = run.result, run.result.history
+    res = run.result
     surface = SlipSurface.of(disc, p.slip_min,
                              {"yellow_clay": group == "yellow_clay", "boot": boot})
     paths = [*run.figures, plot_configuration(
@@ -408,7 +354,7 @@ def discrete_phase(phase: ContinuumPhase, p: Parameters, out: Path) -> dict[str,
                           "boot": "an element of the core's boot"}),
         "shoulder_moves_upstream": Check(float(shoulder_dx < 0.0), 1.0, 0.0, "-",
                                          "mean x-displacement of the upstream shoulder < 0"),
-        **conservation_checks(h, disc, n0, mass0),
+        **run.checks(),
         "upstream_toe_movement": Check.published(
             -moved.toe_dx, 12.0, None, "m", "observed: upstream toe moved about 11-13 m",
             applies=published),
@@ -419,18 +365,14 @@ def discrete_phase(phase: ContinuumPhase, p: Parameters, out: Path) -> dict[str,
         "handover": hand.report,
         "discrete": {
             "start": "last complete lift + collapsing lift placed at once"
-                     if before is not None else "end of construction (design height)",
-            "elements": disc.n_elements, "dt_s": res.dt, "steps": res.steps,
-            "time_s": res.time, "stop": res.stop_reason, "wall_time_s": res.wall_time,
-            "phase_wall_time_s": time.perf_counter() - start,
-            "interfaces_failed": int((~disc.interface_intact).sum()), **surface.summary(),
-            "upstream_shoulder_mean_dx_m": shoulder_dx,
+                     if built.before_collapse is not None
+                     else "end of construction (design height)",
+            **run.report(), "phase_wall_time_s": time.perf_counter() - start,
+            **surface.summary(), "upstream_shoulder_mean_dx_m": shoulder_dx,
             "upstream_toe_dx_m": moved.toe_dx, "crest_drop_m": moved.crest_drop,
             "toe_runout_m": -moved.toe_dx, "max_upstream_movement_m": moved.run_out,
-            "energy_peak_over_supply": energy_peak_ratio(h),
-            "figures": [str(f) for f in paths],
-            "outputs": [str(f) for f in run.outputs]},
-        "checks": {**phase.summary["checks"], **checks}}
+            "figures": [str(f) for f in paths]},
+        "checks": {**continuum_checks, **checks}}
 
 
 if __name__ == "__main__":

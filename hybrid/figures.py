@@ -20,6 +20,7 @@ from typing import TYPE_CHECKING, Any, NamedTuple
 import numpy as np
 
 from hybrid.io import Box, check_box, gather_cells, plot_cell_field, save_figure
+from hybrid.references import Band
 
 if TYPE_CHECKING:
     from hybrid.continuum.staging import Construction
@@ -51,19 +52,6 @@ class Column(NamedTuple):
     levels: Sequence[float] = ()
     line: str = ""
     name: str = "column"
-
-
-class Band(NamedTuple):
-    """A published value drawn beside a computed history.
-
-    ``low`` to ``high`` (in the plotted unit) at the levels ``level_low`` to ``level_high``.
-    """
-
-    label: str
-    low: float
-    high: float
-    level_low: float
-    level_high: float
 
 
 def plot_level_history(path: str | Path, levels: Sequence[float], values: Sequence[float], *,
@@ -270,14 +258,17 @@ def safety_figures(out: str | Path, mesh: Any, safety: Any, *, active: np.ndarra
 
 def staged_figures(out: str | Path, mesh: Any, state: ContinuumState, built: Construction, *,
                    window: Window, column: Column | None = None,
-                   circle: SlipCircle | None = None,
-                   elevation_label: str = "y [m]") -> list[Path]:
+                   circle: SlipCircle | None = None, elevation_label: str = "y [m]",
+                   engineering: str | None = None) -> list[Path]:
     """The figures of a staged construction (:func:`~hybrid.continuum.staging.build_in_lifts`).
 
     :func:`construction_figures` of ``state``, the end of construction or, when a lift
     collapsed, the last equilibrium before collapse (said in the titles), with the fill not
     yet placed left blank and the strain from placement; then, when a factor of safety was
-    found, :func:`safety_figures` of the last one with ``circle``.
+    found, :func:`safety_figures` of the last one with ``circle``. With ``engineering`` (how
+    the titles name the state, e.g. "fill at 200.5 m OD"), also the figures an engineer reads
+    first: :func:`engineering_figures` of ``state`` ("end_of_construction_" files) and, with
+    a factor of safety, :func:`safety_engineering_figures` of it with ``circle``.
     """
     when = "end of construction" if built.completed else "last equilibrium before collapse"
     active = (np.ones(mesh.num_owned_cells, dtype=bool) if state.active is None
@@ -288,6 +279,13 @@ def staged_figures(out: str | Path, mesh: Any, state: ContinuumState, built: Con
     if built.safety is not None:
         paths += safety_figures(out, mesh, built.safety, active=built.safety_active,
                                 window=window, circle=circle)
+    if engineering is None:
+        return paths
+    paths += engineering_figures(out, state, prefix="end_of_construction_", when=engineering,
+                                 window=window, elevation_label=elevation_label)
+    if built.safety is not None:
+        paths += safety_engineering_figures(out, built.safety, circle=circle, window=window,
+                                            elevation_label=elevation_label)
     return paths
 
 

@@ -21,6 +21,9 @@ Sources
     (aluminium rods); Bui, Fukagawa, Sako & Ohno (2008), Int. J. Numer. Anal. Meth. Geomech.
     32(12), 1537-1570 (the aluminium-bar experiment: geometry and material). See the section
     "granular column collapse" for what was read where and what is unverified.
+    Carsington Dam, chainage 725: G. S. Bala (2008), thesis, chapter 6 (6.2.5, 6.3, 6.3.1.2,
+    Figure 6.19); A. W. Skempton (1985); Z. Chen, N. R. Morgenstern & D. H. Chan (1992),
+    Canadian Geotechnical Journal. See the section "Carsington Dam".
 """
 
 from __future__ import annotations
@@ -72,6 +75,11 @@ __all__ = [
     "granular_final_height_rods2015",
     "CollapseExperiment",
     "bui2008_collapse",
+    "Band",
+    "CARSINGTON_FAILURE_FILL_LEVEL",
+    "CARSINGTON_FOS",
+    "CARSINGTON_CORE_DISPLACEMENT",
+    "CARSINGTON_REPORT_LEVELS",
 ]
 
 BEARING_METHODS = ("terzaghi", "meyerhof", "vesic", "hansen")
@@ -940,3 +948,37 @@ def bui2008_collapse() -> CollapseExperiment:
         notes="material values are the simulation's (secondary); bar size, packing and wall "
               "removal not found",
     )
+
+
+# --- Carsington Dam, chainage 725 ---------------------------------------------------------------
+
+class Band(NamedTuple):
+    """A published value drawn beside a computed history.
+
+    ``low`` to ``high`` (in the plotted unit) at the levels ``level_low`` to ``level_high``.
+    """
+
+    label: str
+    low: float
+    high: float
+    level_low: float
+    level_high: float
+
+
+#: fill level when the upstream slope slipped [m OD] (Skempton 1985)
+CARSINGTON_FAILURE_FILL_LEVEL = 199.5
+#: factors of safety at Ch. 725 (thesis 6.2.5, 6.3; Chen et al. 1992): (F, source)
+CARSINGTON_FOS = {
+    "limit_equilibrium_intact_peak": (1.4, "LE, intact peak strengths (> 1.4)"),
+    "limit_equilibrium_pre_sheared": (1.2, "LE, reduced yellow-clay strength for pre-shears"),
+    "finite_element_before_collapse": (1.1, "FE (strain softening), just before collapse"),
+}
+#: horizontal displacement of the core at node A [mm] against the fill level [m OD] (thesis
+#: 6.3.1.2, Figure 6.19); the first two are at :data:`CARSINGTON_REPORT_LEVELS`
+CARSINGTON_CORE_DISPLACEMENT = (
+    Band("thesis: about 150 mm up to 198 m OD", 140.0, 160.0, 198.0, 198.0),
+    Band("thesis: 400-450 mm at 200.5 m OD", 400.0, 450.0, 200.5, 200.5),
+    Band("observed at the core's base: 200-275 mm", 200.0, 275.0, 199.0, 200.0),
+    Band("Chen (1992), finite elements: 100-150 mm", 100.0, 150.0, 199.0, 200.0))
+#: fill levels of the thesis's core displacements [m OD]
+CARSINGTON_REPORT_LEVELS = (198.0, 200.5)

@@ -153,6 +153,18 @@ class Section:
                 (-self.boot_length, boot_top), (-self.boot_length, trench), (x_down, trench),
                 (x_down, self.foundation_level), (half, yc)]
 
+    def node_a_candidates(self) -> dict[str, tuple[float, float]]:
+        """Where in the core the thesis's node A may be [m, m OD] (measured beside it).
+
+        The thesis calls it "node A in the core" and compares its displacement with the
+        deflection observed "within the core at the base" (6.3.1.2); no more locates it.
+        """
+        boot_top = self.foundation_level + self.boot_height
+        face = 0.5 * self.core_top_width + self.core_batter * (self.crest_level - boot_top)
+        return {"axis_foundation_level": (0.0, self.foundation_level),
+                "axis_boot_top": (0.0, boot_top), "upstream_face_boot_top": (-face, boot_top),
+                "axis_berm_top": (0.0, self.berm_top)}
+
 
 # fill levels reached in the construction history (thesis 6.2.2): end of 1982 (Elv. 182 at
 # Ch. 650-1000), July 1983 (Elv. 190, when the berm was ordered), and the level the thesis

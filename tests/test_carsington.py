@@ -6,6 +6,7 @@ import meshio
 import numpy as np
 import pytest
 
+from hybrid import references
 from hybrid.continuum.staging import lift_groups, split_into_lifts
 from hybrid.geometry import build_mesh
 
@@ -72,6 +73,27 @@ def test_section_groups_areas_and_lifts(case):
 # the thesis's element counts by zone (6.2.6; 1 061 in all; its berm is in Zone II)
 THESIS_ELEMENTS = {"foundation": 441, "zone_I": 101, "zone_II": 319, "yellow_clay": 18,
                    "core": 182}
+
+
+def test_node_a_candidates_and_published_bands(case):
+    """The places node A may be lie in the core: on its axis at the foundation level, the
+    top of the boot and the berm top, and on its upstream face (an outline vertex) at the top
+    of the boot; the default node A is one of them. The first published bands are at the
+    levels the case reports node A's displacement at."""
+    cars = case("carsington")
+    section = cars.section_module().Section()
+    places = section.node_a_candidates()
+    boot_top = section.foundation_level + section.boot_height
+    assert places["axis_foundation_level"] == (0.0, section.foundation_level)
+    assert places["axis_boot_top"] == (0.0, boot_top)
+    assert places["axis_berm_top"] == (0.0, section.berm_top)
+    assert places["upstream_face_boot_top"] == pytest.approx(section.core_outline()[1])
+    defaults = cars.Parameters()
+    assert (defaults.node_a_x, defaults.node_a_y) in places.values()
+    bands = references.CARSINGTON_CORE_DISPLACEMENT
+    assert [(b.level_low, b.level_high) for b in bands[:2]] == [
+        (z, z) for z in references.CARSINGTON_REPORT_LEVELS]
+    assert all(b.low < b.high for b in bands)
 
 
 def test_zone_areas_against_the_thesis_element_counts(case):

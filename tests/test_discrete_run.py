@@ -124,6 +124,17 @@ def test_run_to_rest_writes_the_standard_outputs(tmp_path):
                                               "discrete_series", "animation.json"}
     assert all(p.parent == tmp_path / "discrete" for p in done.outputs)
     assert (tmp_path / "discrete" / "frames" / "frame_0000.png").is_file()
+    # the run's standard numbers and checks, against the start it kept
+    assert done.state is st and done.n_elements == st.n_elements
+    assert done.mass == pytest.approx(float(st.mass.sum()), rel=1e-12)
+    report = done.report()
+    assert (report["steps"], report["time_s"], report["stop"]) == (
+        done.result.steps, st.time, "rest")
+    assert report["interfaces_failed"] == 0 and 0.0 < report["energy_peak_over_supply"] <= 1.0
+    assert report["outputs"] == [str(p) for p in done.outputs]
+    checks = done.checks()
+    assert set(checks) == {"energy_excess_over_sources", "elements_conserved", "mass_conserved"}
+    assert all(c.passed for c in checks.values())
     with pytest.raises(ValueError, match="options.dt"):
         run_to_rest(st, tmp_path, RunOptions(), until_time=1.0, rest=1e-6, frames=2)
 

@@ -9,7 +9,12 @@ import pytest
 
 from hybrid.continuum.analysis import at_rest_checks
 from hybrid.continuum.plastic import PlasticSolver
-from hybrid.continuum.staging import build_in_lifts, lift_groups, split_into_lifts
+from hybrid.continuum.staging import (
+    build_in_lifts,
+    lift_groups,
+    lift_materials,
+    split_into_lifts,
+)
 from hybrid.continuum.strength_reduction import SafetyResult
 from hybrid.figures import (
     Column,
@@ -59,6 +64,16 @@ def test_split_into_lifts(column):
         assert len(y) and y.min() == pytest.approx(bottom) and y.max() == pytest.approx(top)
     assert sorted(np.concatenate([mesh.cells(g) for g in mesh.cell_groups])) == list(
         range(base.num_owned_cells))
+
+
+def test_lift_materials(column):
+    """Every lift takes its group's material, a group not split its own."""
+    _, mesh, _, _ = column
+    table = {"lift1": "ground", "lift2": "fill"}
+    assert lift_materials(mesh, table) == {"lift1": "ground", "lift2:1": "fill",
+                                           "lift2:2": "fill"}
+    with pytest.raises(KeyError):
+        lift_materials(mesh, {"lift1": "ground"})
 
 
 def test_split_into_lifts_refuses_bad_input(column):
@@ -173,6 +188,22 @@ def test_construction_and_safety_figures(column, tmp_path):
         safety_engineering_figures(tmp_path, dataclasses.replace(safety, state=None))
 
 
+def test_construction_checks_and_safety_report(column):
+    """The unplaced-fill check; the last factor of safety with the lift it was found after."""
+    _, _, solver, built = column
+    check = built.checks()["max_stress_in_unplaced_lifts"]
+    assert check.passed and check.computed == built.max_unplaced_stress == 0.0
+    assert built.safety_report() == {}  # none asked for
+    safety = SafetyResult(1.5, (1.5, 1.6), 1.0, trials=[(1.5, False, 3)],
+                          state=solver.state(), mechanism=solver.u.x.array.copy())
+    stages = [{**built.stages[0], "factor_of_safety": 1.7}, built.stages[1]]
+    with_fos = dataclasses.replace(built, stages=stages, safety=safety, safety_wall_time=2.5)
+    report = with_fos.safety_report()
+    assert report["F"] == 1.5 and report["after_lift"] == 1 and report["fill_level_m"] == 3.0
+    assert report["wall_time_s"] == 2.5
+    assert set(safety.as_dict()) < set(report)
+
+
 def test_staged_figures(column, tmp_path):
     """The construction figures, and the safety figures only with a factor of safety."""
     _, mesh, solver, built = column
@@ -186,6 +217,14 @@ def test_staged_figures(column, tmp_path):
     with_fos = dataclasses.replace(built, completed=False, safety=safety)
     paths = staged_figures(tmp_path / "b", mesh, state, with_fos, window=window)
     assert len(paths) == 7 and paths[-1].name == "fos_plastic_strain.png"
+    # with the engineering figures: those of the state, then those at F
+    paths = staged_figures(tmp_path / "c", mesh, state, with_fos, window=window,
+                           engineering="fill at 4 m")
+    assert [p.name for p in paths[7:]] == [
+        "end_of_construction_deformed_mesh.png", "end_of_construction_shear_strain.png",
+        "end_of_construction_plastic_points.png", "fos_deformed_mesh.png",
+        "fos_shear_strain.png", "fos_plastic_points.png"]
+    assert all(p.is_file() for p in paths)
 
 
 def test_handover_after_construction(column):

@@ -4,7 +4,8 @@
 centroid ("core" -> "core:1", "core:2", ...); :func:`build_in_lifts` places the lifts one
 after another on a :class:`~hybrid.continuum.plastic.PlasticSolver` (each stress-free, its
 weight ramped in), with an optional strength-reduction factor of safety after each, and stops
-at the first lift whose full weight finds no equilibrium (the collapse). :class:`PlacementStrain`
+at the first lift whose full weight finds no equilibrium (the collapse); :func:`lift_materials`
+gives each lift its group's material. :class:`PlacementStrain`
 counts the strain of the fill from its placement, which the total displacement cannot give (a
 lift's nodes start at zero while the nodes at its base have already moved).
 """
@@ -12,9 +13,9 @@ lift's nodes start at zero while the nodes at its base have already moved).
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, TypeVar
 
 import numpy as np
 from dolfinx import fem
@@ -26,11 +27,13 @@ from hybrid.continuum.plastic import PlasticSolver
 from hybrid.continuum.state import ContinuumState
 from hybrid.continuum.strength_reduction import SafetyResult, StrengthSearch, factor_of_safety
 from hybrid.geometry import GeometryError, MeshData
+from hybrid.io import Check
 
-__all__ = ["split_into_lifts", "lift_groups", "PlacementStrain", "Construction",
-           "build_in_lifts"]
+__all__ = ["split_into_lifts", "lift_groups", "lift_materials", "PlacementStrain",
+           "Construction", "build_in_lifts"]
 
 _STRIDE = 100  # tag of lift k of a group tagged t: _STRIDE * t + k
+T = TypeVar("T")
 
 
 def split_into_lifts(mesh: MeshData, groups: Sequence[str], tops: Sequence[float]) -> MeshData:
@@ -67,6 +70,14 @@ def split_into_lifts(mesh: MeshData, groups: Sequence[str], tops: Sequence[float
 def lift_groups(mesh: MeshData, lift: int) -> list[str]:
     """Cell groups of one lift (1-based) of a :func:`split_into_lifts` mesh, sorted."""
     return sorted(g for g in mesh.cell_groups if g.endswith(f":{lift}"))
+
+
+def lift_materials(mesh: MeshData, table: Mapping[str, T]) -> dict[str, T]:
+    """The material of every cell group of a :func:`split_into_lifts` mesh, for a ``Model``.
+
+    A lift ("core:3") takes its group's ("core") from ``table``; a group not split, its own.
+    """
+    return {name: table[name.split(":")[0]] for name in mesh.cell_groups}
 
 
 class PlacementStrain:
@@ -154,6 +165,28 @@ class Construction:
         E.g. a value recorded by the ``monitor`` of :func:`build_in_lifts`.
         """
         return [(st[f"top_{self.unit}"], st[key]) for st in self.complete]
+
+    def checks(self) -> dict[str, Check]:
+        """The construction's own check: no stress in the fill not yet placed.
+
+        "max_stress_in_unplaced_lifts": exactly zero, after every lift.
+        """
+        return {"max_stress_in_unplaced_lifts": Check(self.max_unplaced_stress, 0.0, 0.0, "kPa",
+                                                      "exactly zero")}
+
+    def safety_report(self) -> dict[str, Any]:
+        """The last factor of safety for a summary (empty when none was asked for).
+
+        ``SafetyResult.as_dict``, then the lift it was found after ("after_lift"), that
+        lift's top ("fill_level_<unit>") and the seconds spent in strength reduction
+        ("wall_time_s").
+        """
+        if self.safety is None:
+            return {}
+        last = [st for st in self.stages if "factor_of_safety" in st][-1]
+        return {**self.safety.as_dict(), "after_lift": last["lift"],
+                f"fill_level_{self.unit}": last[f"top_{self.unit}"],
+                "wall_time_s": self.safety_wall_time}
 
     def last_equilibrium(self, solver: PlasticSolver, mesh: MeshData) -> ContinuumState:
         """The state the figures and numbers of a construction come from.

@@ -4,8 +4,9 @@
 until it comes to rest or to a time limit, with the observers of
 :func:`~hybrid.discrete.outputs.standard_outputs` (XDMF series, PNG frames and GIF, progress
 bar) and figures of the configuration (:func:`~hybrid.discrete.figures.plot_configuration`)
-at the start and at chosen times. What the run measures is left to the caller
-(:mod:`hybrid.discrete.measures`, :mod:`hybrid.discrete.energy`).
+at the start and at chosen times; the :class:`RestRun` it returns reports the run's standard
+numbers and checks (elements, mass and energy). What else the run measures is left to the
+caller (:mod:`hybrid.discrete.measures`).
 """
 
 from __future__ import annotations
@@ -13,13 +14,16 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
+from hybrid.discrete.energy import conservation_checks, energy_peak_ratio
 from hybrid.discrete.figures import Snapshots, plot_configuration
 from hybrid.discrete.outputs import frame_interval, standard_outputs
 from hybrid.discrete.solver import ExplicitSolver, RunOptions, RunResult
 from hybrid.discrete.state import DiscreteState
+from hybrid.io import Check
 
 __all__ = ["LoadProgram", "RestRun", "require_serial", "run_to_rest"]
 
@@ -102,11 +106,38 @@ class RestRun:
         result: the solver's :class:`~hybrid.discrete.solver.RunResult`.
         figures: the configuration PNGs written: the start, then the snapshots in time order.
         outputs: the files of the observers other than PNG frames (XDMF, HDF5, GIF).
+        state: the state run (advanced in place: the end of the run).
+        n_elements: its elements at the start.
+        mass: its mass at the start [t/m].
     """
 
     result: RunResult
     figures: list[Path]
     outputs: list[Path]
+    state: DiscreteState
+    n_elements: int
+    mass: float
+
+    def checks(self) -> dict[str, Check]:
+        """The standard checks of the run (:func:`~hybrid.discrete.energy.conservation_checks`).
+
+        Energy never above its sources, the elements and the mass of the start kept.
+        """
+        return conservation_checks(self.result.history, self.state, self.n_elements, self.mass)
+
+    def report(self) -> dict[str, Any]:
+        """The run in numbers for a summary.
+
+        "elements" (at the end), "dt_s", "steps", "time_s", "stop" (the reason),
+        "wall_time_s", "interfaces_failed", "energy_peak_over_supply"
+        (:func:`~hybrid.discrete.energy.energy_peak_ratio`) and the "outputs" (paths).
+        """
+        res, state = self.result, self.state
+        return {"elements": state.n_elements, "dt_s": res.dt, "steps": res.steps,
+                "time_s": res.time, "stop": res.stop_reason, "wall_time_s": res.wall_time,
+                "interfaces_failed": int((~state.interface_intact).sum()),
+                "energy_peak_over_supply": energy_peak_ratio(res.history),
+                "outputs": [str(f) for f in self.outputs]}
 
 
 def run_to_rest(state: DiscreteState, out: str | Path, options: RunOptions, *,
@@ -146,13 +177,14 @@ def run_to_rest(state: DiscreteState, out: str | Path, options: RunOptions, *,
     snapshots = Snapshots(out, snapshot_times, prefix=f"{prefix}t", window=window,
                           title="t = {time:.3g} s: failed interfaces (red), plastic strain")
     every = frame_interval(until_time, options.dt, frames) if options.dt is not None else 0
+    n_elements, mass = state.n_elements, float(state.mass.sum())
     observers = standard_outputs(out / "discrete", progress=progress, output_every=every)
     with ExplicitSolver(state, options, observers=observers) as solver:
         result = solver.run(until_time=until_time, until_rest=rest,
                             rest_min_steps=rest_min_steps, on_check=snapshots,
                             check_every=check_every)
     return RestRun(result, figures + snapshots.paths,
-                   [f for f in solver.files if f.suffix != ".png"])
+                   [f for f in solver.files if f.suffix != ".png"], state, n_elements, mass)
 
 
 def require_serial(case: str) -> None:
