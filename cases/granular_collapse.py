@@ -162,7 +162,7 @@ def main(out: str | Path = "results/granular_collapse", **overrides) -> CaseSumm
     checks = {
         **conservation_checks(h, disc, n0, mass0),
         "rest_kinetic_ratio": Check(
-            float(h["kinetic"][-1] / max(h["kinetic"].max(), h["strain"][-1])), 0.0, p.rest,
+            res.rest_ratio, 0.0, p.rest,
             "-", "at rest: E_kin / max(peak E_kin, E_strain)"),
         "final_height_rods2015": Check(
             height, refs["rods2015_height"], None, "-",

@@ -341,6 +341,48 @@ def test_interface_fails_where_the_material_has_softened_to_residual():
         assert ties.check_interfaces(st)[inner[0]] == expected
 
 
+def _sheared_pair(split: bool, gamma_end: float):
+    """Two softening elements side by side sheared by their top nodes at constant speed to
+    shear strain ``gamma_end``, with splitting checked every step (``split``) or never."""
+    from hybrid.discrete.solver import ExplicitSolver, RunOptions
+
+    h = 0.5
+    st = rectangle(2 * h, h, 2, 1, material=_tresca(), gravity=(0.0, 0.0))
+    bottom = np.isclose(st.x_ref[:, 1], 0.0)
+    V = 0.01 * h
+    st.fix(bottom)
+    st.fix(~bottom, velocity=(V, 0.0))
+    with ExplicitSolver(st, RunOptions(split_every=1 if split else 0, contact=False)) as sol:
+        sol.run(until_time=gamma_end * h / V)
+    return st
+
+
+def test_an_element_beside_its_failed_band_stops_yielding_at_residual():
+    """Once the interface between two softened elements has failed, the elements yield no
+    further than their residual plastic strain kappa_r = u_r / (sqrt(3) h) (to one step's
+    increment) and the further shear loads them elastically; the same pair with splitting off
+    keeps flowing at the residual strength (tau = c_r)."""
+    from hybrid.discrete import ties
+
+    h = 0.5
+    kappa_r = U_R / (math.sqrt(3.0) * h)
+    gamma_end = 3.0 * (U_R / h + C_RES / G)  # three times the strain that reaches residual
+    split = _sheared_pair(True, gamma_end)
+    flowing = _sheared_pair(False, gamma_end)
+    assert not split.interface_intact[split.interface_splittable].any()
+    np.testing.assert_allclose(ties.band_plastic_cap(split), kappa_r, rtol=1e-12)
+    assert kappa_r <= split.plastic_strain.max() < 1.01 * kappa_r
+    assert float(np.abs(split.stress[..., 3]).max()) > 2.0 * C_RES  # elastic beyond residual
+    assert flowing.plastic_strain.min() > 2.0 * kappa_r
+    assert float(np.abs(flowing.stress[..., 3]).max()) <= C_RES * (1.0 + 1e-6)
+    # intact, or of a material that does not soften: the cap given (inf: none)
+    assert np.all(ties.band_plastic_cap(flowing, 0.7) == 0.7)
+    rigid = rectangle(2 * h, h, 2, 1, material=Material(name="s", E=E, nu=NU, density=2.0,
+                                                         cohesion=10.0), gravity=(0.0, 0.0))
+    ties.split_interfaces(rigid, np.ones(rigid.interface_intact.size, dtype=bool))
+    assert np.all(np.isinf(ties.band_plastic_cap(rigid)))
+
+
 def test_contact_friction_defaults_to_the_residual_angle():
     from hybrid.discrete.state import material_rows
 

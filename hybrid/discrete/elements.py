@@ -163,7 +163,8 @@ def _point_update(stress, plastic_strain, yielded, e, gp, l12, l21, dexx, deyy, 
 
     The objective elastic trial (``_objective_trial``), then the isotropic Mohr-Coulomb
     return (it commutes with the rotation) unless the material is elastic or the point's
-    plastic strain has reached ``plastic_cap``. Returns the new (sxx, syy, szz, sxy).
+    plastic strain has reached ``plastic_cap`` (the element's entry of the per-element cap).
+    Returns the new (sxx, syy, szz, sxy).
     """
     K = material_table[m, 0]
     G = material_table[m, 1]
@@ -274,7 +275,7 @@ def _q4_kernel(x, v, dt, element_nodes, element_material, material_table, elasti
             dgxy = l12 + l21
             sxx, syy, szz, sxy = _point_update(stress, plastic_strain, yielded, e, gp, l12, l21,
                                                dexx, deyy, dgxy, material_table, m, elastic,
-                                               element_length[e], plastic_cap)
+                                               element_length[e], plastic_cap[e])
             # force on the new configuration: det J dN/dx = j22 dNxi - j21 dNeta,
             # det J dN/dy = -j12 dNxi + j11 dNeta
             det = j11 * j22 - j12 * j21
@@ -346,7 +347,7 @@ def _t3_kernel(x, v, dt, element_nodes, element_material, material_table, elasti
         dgxy = l12 + l21
         sxx, syy, szz, sxy = _point_update(stress, plastic_strain, yielded, e, 0, l12, l21, dexx,
                                            deyy, dgxy, material_table, m, elastic_only[m],
-                                           element_length[e], plastic_cap)
+                                           element_length[e], plastic_cap[e])
         det = j11 * j22 - j12 * j21
         h = 0.5 if det > 0.0 else math.nan
         # A dN_a/dx = (y_{a+1} - y_{a+2}) / 2, A dN_a/dy = (x_{a+2} - x_{a+1}) / 2
@@ -397,21 +398,25 @@ def _strain_energy_kernel(x, element_nodes, element_material, material_table, st
 
 def element_forces(x, v, dt, element_nodes, element_material, material_table, elastic_only,
                    element_length, stress, plastic_strain, yielded, force, bbar: bool = True,
-                   plastic_strain_cap: float = math.inf) -> None:
+                   plastic_strain_cap: np.ndarray | None = None) -> None:
     """Array-level call of the element kernel (no validation: the engine's hot path).
 
     Updates stress / plastic_strain / yielded for the increment du = dt v and writes the
     internal force I on the current configuration x into force (n_nodes, 2). A Gauss point
-    whose accumulated plastic strain has reached ``plastic_strain_cap`` responds elastically
-    from then on (see ``RunOptions.plastic_strain_cap``). ``element_length`` (n_elements,) is
-    the characteristic length of strain softening [m] (``DiscreteState.element_length``).
+    of element e whose accumulated plastic strain has reached ``plastic_strain_cap[e]``
+    (n_elements,; None: no cap) responds elastically from then on (``ExplicitSolver``: the
+    residual plastic strain of an element whose softened band has split, and the expert
+    option ``RunOptions.plastic_strain_cap``). ``element_length`` (n_elements,) is the
+    characteristic length of strain softening [m] (``DiscreteState.element_length``).
     """
+    cap = (np.full(element_nodes.shape[0], np.inf) if plastic_strain_cap is None
+           else plastic_strain_cap)
     if element_nodes.shape[1] == 4:
         _q4_kernel(x, v, dt, element_nodes, element_material, material_table, elastic_only,
-                   element_length, stress, plastic_strain, yielded, bbar, plastic_strain_cap, force)
+                   element_length, stress, plastic_strain, yielded, bbar, cap, force)
     else:
         _t3_kernel(x, v, dt, element_nodes, element_material, material_table, elastic_only,
-                   element_length, stress, plastic_strain, yielded, plastic_strain_cap, force)
+                   element_length, stress, plastic_strain, yielded, cap, force)
 
 
 def internal_forces(state: DiscreteState, dt: float = 0.0, *, bbar: bool = True) -> np.ndarray:

@@ -187,17 +187,18 @@ def prime(state: DiscreteState) -> None:
     """
     state.refresh_groups()
     zero = np.zeros_like(state.v)
+    no_return = np.zeros(state.element_nodes.shape[0])  # the stresses stay as they are
     element_forces(state.x, zero, 0.0, state.element_nodes, state.element_material,
                    state.material_table, state.elastic_only, state.element_length,
                    state.stress, state.plastic_strain, state.yielded, state.internal_force,
-                   plastic_strain_cap=0.0)  # no return mapping: the stresses stay as they are
+                   plastic_strain_cap=no_return)
     state.primed = True
 
 
 def step(state: DiscreteState, dt: float, *, mass_damping: float = 0.0,
          local_damping: float = 0.0, contact_force: np.ndarray | None = None,
          bbar: bool = True, external: bool = True,
-         plastic_strain_cap: float = math.inf) -> None:
+         plastic_strain_cap: float | np.ndarray = math.inf) -> None:
     """Advance the state by one explicit step of size dt [s].
 
     Hot path: only scalar checks; ``ExplicitSolver`` checks dt against the stable step once.
@@ -206,7 +207,8 @@ def step(state: DiscreteState, dt: float, *, mass_damping: float = 0.0,
     [0, 1). ``contact_force`` (n_nodes, 2), if given, holds the contact forces at the current
     configuration (from ``hybrid.discrete.contact.contact_forces``). ``external=False`` skips
     reading ``state.external_force`` (pass it only when that array is all zero).
-    ``plastic_strain_cap``: Gauss points with this much plastic strain respond elastically.
+    ``plastic_strain_cap``: Gauss points with this much plastic strain respond elastically
+    (one value, or one per element).
     """
     if not (dt > 0.0 and math.isfinite(dt)):
         raise ValueError(f"dt = {dt!r}: must be a finite positive time step [s]")
@@ -224,7 +226,8 @@ def step(state: DiscreteState, dt: float, *, mass_damping: float = 0.0,
     element_forces(state.x, state.v, float(dt), state.element_nodes, state.element_material,
                    state.material_table, state.elastic_only, state.element_length,
                    state.stress, state.plastic_strain, state.yielded, state.internal_force,
-                   bbar, float(plastic_strain_cap))
+                   bbar, (plastic_strain_cap if isinstance(plastic_strain_cap, np.ndarray)
+                          else np.full(state.element_nodes.shape[0], float(plastic_strain_cap))))
     state.time += dt
     state.step += 1
 

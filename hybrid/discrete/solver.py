@@ -165,6 +165,18 @@ class RunResult:
     n_split: int  # interfaces broken during this run
     history: dict[str, np.ndarray] = field(default_factory=dict)  # energy ledger per check
     phase: str = ""  # the run's name in the outputs
+    peak_kinetic: float = 0.0  # largest kinetic energy at the start and the checks [kJ/m]
+
+    @property
+    def rest_ratio(self) -> float:
+        """E_kin / max(peak E_kin, E_strain) at the end [-]: the measure of ``until_rest``.
+
+        A run stopped at rest has it at most ``until_rest``; the same number is the rest
+        check of a case, so that the check and the stop never disagree.
+        """
+        h = self.history
+        kin, strain = float(h["kinetic"][-1]), float(h["strain"][-1])
+        return kin / max(self.peak_kinetic, kin, strain, 1e-300)
 
     @property
     def ending(self) -> str:
@@ -181,7 +193,8 @@ class RunResult:
         return f"Not at rest: stopped by {reason} ({at})"
 
 
-_RESULT_NUMBERS = ("steps", "time", "dt", "wall_time", "element_steps_per_s", "n_split")
+_RESULT_NUMBERS = ("steps", "time", "dt", "wall_time", "element_steps_per_s", "n_split",
+                   "peak_kinetic")
 
 
 @dataclass
@@ -407,9 +420,10 @@ class ExplicitSolver:
 
     # -- one step ----------------------------------------------------------------------------
     def _begin(self) -> None:
-        """Read what may have changed since the last run: loads, supports, masses."""
+        """Read what may have changed since the last run: loads, supports, masses, splits."""
         st = self.state
         self._external = bool(np.any(st.external_force))
+        self._point_cap = ties.band_plastic_cap(st, self._cap)
         mass_tot = float(np.sum(st.mass))
         # floor of the contact search margin [m]
         self._margin_floor = 1e-6 * math.sqrt(mass_tot / float(st.density.max()))
@@ -448,7 +462,7 @@ class ExplicitSolver:
         integrate.step(st, dt, mass_damping=o.mass_damping, local_damping=o.local_damping,
                        contact_force=self._cforce if self.contact else None, bbar=o.bbar,
                        external=self._external,
-                       plastic_strain_cap=self._cap)
+                       plastic_strain_cap=self._point_cap)
         if n_pairs:
             # minus the work of the tangential / damping / elastic normal forces on the
             # mid-step velocity
@@ -463,6 +477,7 @@ class ExplicitSolver:
             modes = ties.check_interfaces(st, self._split_limit)
             if modes.any():
                 self.n_split += ties.split_interfaces(st, modes > 0)
+                self._point_cap = ties.band_plastic_cap(st, self._cap)
         self.steps += 1
 
     @property
@@ -605,6 +620,7 @@ class ExplicitSolver:
         if not hist["step"] or hist["step"][-1] != st.step:
             led = EnergyLedger.measure(st)
             monitor.check(st, led)
+            r.peak_ke = max(r.peak_ke, led.kinetic)
             _record(hist, st, led, led0)
         k = r.k
         log.info("discrete run: %d steps, stop=%s, %.3g s wall", k, stop, wall)
@@ -612,7 +628,8 @@ class ExplicitSolver:
                            element_steps_per_s=(k - k0) * st.n_elements / wall if wall > 0
                            else 0.0,
                            n_split=self.n_split - r.split0,
-                           history={kk: np.asarray(v) for kk, v in hist.items()}, phase=r.phase)
+                           history={kk: np.asarray(v) for kk, v in hist.items()}, phase=r.phase,
+                           peak_kinetic=r.peak_ke)
         self._run = None
         self._done.append((call, result))
         self._done_callbacks.append(_callback_state(on_check))
@@ -703,7 +720,8 @@ class ExplicitSolver:
                             element_steps_per_s=float(nums["element_steps_per_s"]),
                             n_split=int(nums["n_split"]),
                             history={k: extra[f"{p}hist.{k}"] for k in HISTORY_KEYS},
-                            phase=str(extra[p + "phase"]))
+                            phase=str(extra[p + "phase"]),
+                            peak_kinetic=float(nums["peak_kinetic"]))
             done.append((str(extra[p + "call"]), res))
         self._replay = done
         self._replay_callbacks = [_prefixed(extra, f"solver.done{i}.on_check.")

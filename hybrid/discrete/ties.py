@@ -33,12 +33,13 @@ import numpy as np
 
 import hybrid  # noqa: F401
 from hybrid.constitutive.softening import softening_fraction
+from hybrid.constitutive.table import SOFTENING_DISPLACEMENT
 from hybrid.discrete.state import LEDGER_GROUPS, DiscreteState, groups_csr
 
 import numba  # isort: skip
 
 __all__ = ["check_interfaces", "split_interfaces", "limit_splitting", "FAIL_TENSION",
-           "FAIL_SHEAR", "FAIL_PLASTIC", "FAIL_SOFTENED"]
+           "FAIL_SHEAR", "FAIL_PLASTIC", "FAIL_SOFTENED", "band_plastic_cap"]
 
 FAIL_TENSION = 1
 FAIL_SHEAR = 2
@@ -204,6 +205,30 @@ def split_interfaces(state: DiscreteState, failed) -> int:
     state.group_energy = np.zeros((next_id, 4))
     state.refresh_groups()
     return int(idx.size)
+
+
+def band_plastic_cap(state: DiscreteState, cap: float = math.inf) -> np.ndarray:
+    """Plastic strain beyond which each element's Gauss points respond elastically [-].
+
+    An element beside a failed interface, of a softening material, yields up to its residual
+    plastic strain ``kappa_r = u_r / (sqrt(3) h)`` (``hybrid.constitutive.softening``) and
+    no further: its softened band has become a discontinuity, the failed interface, which
+    carries the further slip as a frictional contact at the residual angle. This is the
+    crack-band model handing over to a discrete crack (Oliver 1996, strong discontinuities;
+    Munjiza 2004, combined finite-discrete elements whose bulk stays elastic): a band one
+    element wide that went on flowing at residual would shear its elements inside out
+    instead of sliding on the crack that its softening opened. Every other element yields
+    up to ``cap`` (``RunOptions.plastic_strain_cap``; inf: no limit). Returns (n_elements,).
+    """
+    n_el = state.element_nodes.shape[0]
+    out = np.full(n_el, float(cap))
+    u_r = state.material_table[state.element_material, SOFTENING_DISPLACEMENT]
+    beside = np.zeros(n_el, dtype=bool)
+    beside[state.interface_elements[~state.interface_intact].ravel()] = True
+    band = beside & (u_r > 0.0)
+    kappa_r = u_r[band] / (math.sqrt(3.0) * state.element_length[band])
+    out[band] = np.minimum(out[band], kappa_r)
+    return out
 
 
 def limit_splitting(state: DiscreteState, elements) -> int:

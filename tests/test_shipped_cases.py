@@ -1,0 +1,43 @@
+"""The shipped cases need no expert knob of the discrete phase to run.
+
+``RunOptions.plastic_strain_cap`` (a Gauss point turns elastic beyond a plastic strain) and
+``RunOptions.split_plastic_strain`` (bonds fail beyond a plastic strain) stay for experts; a
+shipped case relies instead on its materials: bonds fail by the strength criteria and where
+the material has softened to residual, and an element beside a failed bond yields up to its
+residual (``hybrid.discrete.ties.band_plastic_cap``). The cases that still set a knob are
+named here and in docs/hybrid.md with what they measure without it; the list may only shrink.
+"""
+
+import ast
+from pathlib import Path
+
+CASES = Path(__file__).resolve().parent.parent / "cases"
+EXPERT_OPTIONS = ("plastic_strain_cap", "split_plastic_strain")
+# knob-free not reached yet (docs/hybrid.md, "Expert options"): without the knobs H3's
+# failed zone grows back to 36-46 deg at a face movement of 0.1 H (bar 60 +- 5 deg), and
+# Carsington's discrete stage is perfectly plastic (the thesis's Table 6.3), so nothing
+# makes its bonds fail where it flows
+STILL_SET = {"retaining_wall_collapse", "carsington"}
+
+
+def _uses(path: Path) -> set[str]:
+    """The expert options a case script names anywhere in its code (not its docstring)."""
+    names = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.keyword) and node.arg in EXPERT_OPTIONS:
+            names.add(node.arg)
+        elif isinstance(node, ast.AnnAssign) and isinstance(node.target, ast.Name) \
+                and node.target.id in EXPERT_OPTIONS:
+            names.add(node.target.id)
+        elif isinstance(node, ast.Attribute) and node.attr in EXPERT_OPTIONS:
+            names.add(node.attr)
+    return names
+
+
+def test_shipped_cases_set_no_expert_knob():
+    scripts = sorted(CASES.glob("*.py"))
+    assert len(scripts) >= 10
+    knobbed = {p.stem for p in scripts if _uses(p)}
+    assert knobbed == STILL_SET, (
+        f"cases setting {EXPERT_OPTIONS}: {sorted(knobbed)}; expected only {sorted(STILL_SET)}")
+
