@@ -55,6 +55,21 @@ def test_granular_collapse_coarse(case, tmp_path):
     assert tall["height_over_H0"] < low["height_over_H0"]
 
 
+def test_a_deposit_still_moving_is_compared_with_nothing(case, tmp_path):
+    """Stopped by its time limit before rest: the rest check fails, the deposit is marked not
+    at rest, and neither the case nor the verification row compares it with the rods."""
+    from hybrid.verification import _collapse_extra
+
+    s = case("granular_collapse").main(out=tmp_path, aspect=1.5, nx=8, t_end=0.05,
+                                       progress=False)
+    assert s["discrete"]["stop"] == "time"
+    assert not s["checks"]["rest_kinetic_ratio"].passed
+    assert s["deposit"]["at_rest"] is False
+    assert not any("rods2015" in name for name in s["checks"])
+    rows = _collapse_extra(s)
+    assert rows and all(c.reference is None and "not compared" in c.source for c in rows.values())
+
+
 def _committed(name: str) -> dict:
     return json.loads((ROOT / "docs" / "summaries" / f"{name}.json").read_text())
 

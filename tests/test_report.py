@@ -59,9 +59,11 @@ def main(out="x", **overrides):
     runout_m = 0.2 * (1.0 + RUNOUT[p.aspect]) * (1.0 + 1.0 / p.nx)  # longer on coarse grains
     return CaseSummary("granular_collapse (R1)", out, p, {
         "energy_excess_over_sources": Check(0.0, 0.0, 0.01, "-", "energy"),
+        "rest_kinetic_ratio": Check(5e-5, 0.0, 1e-4, "-", "at rest"),
         "mass_conserved": Check(1.0, 1.0, 1e-12, "t/m")}, {"deposit": {
             "runout_m": runout_m, "normalised_runout": RUNOUT[p.aspect],
-            "height_over_H0": HEIGHT[p.aspect], "references": REFS[p.aspect]}})
+            "height_over_H0": HEIGHT[p.aspect], "references": REFS[p.aspect],
+            "at_rest": True}})
 '''
 
 
@@ -267,7 +269,8 @@ def test_r_series_rows_and_section(tmp_path, monkeypatch, case):
     results = verification.run_cases(["R1"], tmp_path / "runs")
     res = {r["id"]: r for r in results}
     assert list(res) == ["R1-a0.5", "R1-a1", "R1-a2"]
-    names = ["energy_excess_over_sources", "runout_vs_rods2015", "final_height_vs_rods2015",
+    names = ["energy_excess_over_sources", "rest_kinetic_ratio", "runout_vs_rods2015",
+             "final_height_vs_rods2015",
              "runout_vs_lube2005", "final_height_vs_lube2005"]
     assert [r["name"] for r in res["R1-a0.5"]["rows"]] == [*names,
                                                           "runout_change_on_halving_mesh"]
