@@ -96,3 +96,10 @@ class CaseParameters:
         """Check every field (type, finiteness, the limits given with :func:`param`)."""
         for field in dataclasses.fields(self):
             check_field(field, getattr(self, field.name))
+
+    def pick(self, names: Sequence[str]) -> dict[str, Any]:
+        """The values of the fields ``names``, by name.
+
+        E.g. the dimensions a mesh builder takes as keywords.
+        """
+        return {name: getattr(self, name) for name in names}

@@ -80,6 +80,7 @@ __all__ = [
     "CARSINGTON_FOS",
     "CARSINGTON_CORE_DISPLACEMENT",
     "CARSINGTON_REPORT_LEVELS",
+    "CARSINGTON_POST_FAILURE",
 ]
 
 BEARING_METHODS = ("terzaghi", "meyerhof", "vesic", "hansen")
@@ -982,3 +983,9 @@ CARSINGTON_CORE_DISPLACEMENT = (
     Band("Chen (1992), finite elements: 100-150 mm", 100.0, 150.0, 199.0, 200.0))
 #: fill levels of the thesis's core displacements [m OD]
 CARSINGTON_REPORT_LEVELS = (198.0, 200.5)
+#: movements observed after the 1984 slip [m]: (value, source), keyed by the discrete phase's
+#: measure ("upstream_toe_movement": towards upstream; "crest_drop": down)
+CARSINGTON_POST_FAILURE = {
+    "upstream_toe_movement": (12.0, "observed: upstream toe moved about 11-13 m"),
+    "crest_drop": (10.0, "observed: crest dropped about 10 m (at the full height)"),
+}

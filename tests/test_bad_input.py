@@ -259,6 +259,15 @@ def test_case_parameters_are_validated(case, name, overrides, message):
         case(name).Parameters(**overrides)
 
 
+def test_case_parameters_pick(case):
+    """The named fields' values by name, in the order asked (what a mesh builder takes)."""
+    p = case("carsington").Parameters(boot_length=30.0)
+    assert p.pick(["boot_length", "lifts"]) == {"boot_length": 30.0, "lifts": p.lifts}
+    assert p.pick([]) == {}
+    with pytest.raises(AttributeError):
+        p.pick(["no_such_field"])
+
+
 def test_every_case_accepts_its_defaults(case):
     for path in sorted(CASES.glob("*.py")):
         case(path.stem).Parameters()

@@ -150,6 +150,9 @@ def test_run_to_rest_writes_the_standard_outputs(tmp_path):
     checks = done.checks()
     assert set(checks) == {"energy_excess_over_sources", "elements_conserved", "mass_conserved"}
     assert all(c.passed for c in checks.values())
+    final = done.final_figure(tmp_path / "d_final.png")
+    assert final == tmp_path / "d_final.png" and final.stat().st_size > 0
+    assert done.window is None  # none given: all elements
     with pytest.raises(ValueError, match="options.dt"):
         run_to_rest(st, tmp_path, RunOptions(), until_time=1.0, rest=1e-6, frames=2)
 

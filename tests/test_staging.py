@@ -236,3 +236,46 @@ def test_handover_after_construction(column):
     groups = element_groups(hand)
     assert set(groups) == {"lift1", "lift2"}
     assert (groups == "lift2").sum() == len(mesh.cells("lift2:1")) + len(mesh.cells("lift2:2"))
+
+
+def test_construction_report(column):
+    """The construction block of a summary: the record's own numbers, the caller's measures
+    after the level, the state's yielded cells and fractions, the solver's iterations."""
+    _, mesh, solver, built = column
+    state = solver.state()
+    top = mesh.cells("lift2:2")
+    report = built.report(solver, state, 3.5, measures={"max_settlement_m": -0.01},
+                          groups={"top": top})
+    assert list(report) == ["completed", "stages", "fill_level_m", "collapsing_lift",
+                            "max_settlement_m", "yielded_cells", "top_yielded_fraction",
+                            "newton_iterations", "wall_time_s"]
+    assert report["completed"] is built.completed and report["stages"] is built.stages
+    assert report["fill_level_m"] == built.level_carried == 4.0
+    assert report["collapsing_lift"] is None
+    assert report["yielded_cells"] == len(state.yielded_cells()) == 0  # elastic
+    assert report["top_yielded_fraction"] == state.yielded_fraction(top)
+    assert report["newton_iterations"] == solver.iterations_total > 0
+    assert report["wall_time_s"] == 3.5
+    # the unit's key in lower case
+    od = dataclasses.replace(built, unit="m_OD", stages=[
+        {**st, "top_m_OD": st["top_m"]} for st in built.stages])
+    assert od.report(solver, state, 0.0)["fill_level_m_od"] == 4.0
+
+
+def test_safety_report_with_circle_and_groups(column):
+    """The factor of safety with the caller's measures, the yielded fractions at F and the
+    limit-equilibrium circle; the check against the circle only with both."""
+    _, mesh, solver, built = column
+    state = solver.state()
+    safety = SafetyResult(1.5, (1.5, 1.6), 1.0, trials=[(1.5, False, 3)], state=state,
+                          mechanism=state.u.x.array.copy())
+    stages = [built.stages[0], {**built.stages[1], "factor_of_safety": 1.5}]
+    with_fos = dataclasses.replace(built, stages=stages, safety=safety)
+    circle = SlipCircle(1.4, (1.0, 5.0), 3.0, 0.0, 2.0)
+    report = with_fos.safety_report(measures={"note": 1}, groups={"top": mesh.cells("lift2:2")},
+                                    circle=circle)
+    assert list(report)[-3:] == ["note", "top_yielded_fraction", "bishop"]
+    assert report["bishop"] == circle.as_dict() and report["after_lift"] == 2
+    check = with_fos.safety_checks(circle)["fos_vs_bishop"]
+    assert (check.computed, check.reference, check.bar) == (1.5, 1.4, None)
+    assert with_fos.safety_checks(None) == {} and built.safety_checks(circle) == {}

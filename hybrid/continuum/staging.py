@@ -28,6 +28,7 @@ from hybrid.continuum.state import ContinuumState
 from hybrid.continuum.strength_reduction import SafetyResult, StrengthSearch, factor_of_safety
 from hybrid.geometry import GeometryError, MeshData
 from hybrid.io import Check
+from hybrid.references import SlipCircle
 
 __all__ = ["split_into_lifts", "lift_groups", "lift_materials", "PlacementStrain",
            "Construction", "build_in_lifts"]
@@ -174,19 +175,57 @@ class Construction:
         return {"max_stress_in_unplaced_lifts": Check(self.max_unplaced_stress, 0.0, 0.0, "kPa",
                                                       "exactly zero")}
 
-    def safety_report(self) -> dict[str, Any]:
+    def safety_report(self, *, measures: Mapping[str, Any] | None = None,
+                      groups: Mapping[str, np.ndarray] | None = None,
+                      circle: SlipCircle | None = None) -> dict[str, Any]:
         """The last factor of safety for a summary (empty when none was asked for).
 
         ``SafetyResult.as_dict``, then the lift it was found after ("after_lift"), that
-        lift's top ("fill_level_<unit>") and the seconds spent in strength reduction
-        ("wall_time_s").
+        lift's top ("fill_level_<unit>"), the seconds spent in strength reduction
+        ("wall_time_s"), the caller's own ``measures``, the yielded fraction of each of
+        ``groups`` at F (``ContinuumState.yielded_fractions`` of the safety state) and, with a
+        limit-equilibrium ``circle`` of the same section, its figures ("bishop").
         """
         if self.safety is None:
             return {}
         last = [st for st in self.stages if "factor_of_safety" in st][-1]
+        fractions = {} if self.safety.state is None or groups is None else (
+            self.safety.state.yielded_fractions(groups))
         return {**self.safety.as_dict(), "after_lift": last["lift"],
                 f"fill_level_{self.unit}": last[f"top_{self.unit}"],
-                "wall_time_s": self.safety_wall_time}
+                "wall_time_s": self.safety_wall_time, **(measures or {}), **fractions,
+                **({} if circle is None else {"bishop": circle.as_dict()})}
+
+    def safety_checks(self, circle: SlipCircle | None) -> dict[str, Check]:
+        """The last F against a limit-equilibrium ``circle`` ("fos_vs_bishop", no bar).
+
+        ``circle``: a search over circles of the same section and lift. Empty without either.
+        """
+        if self.safety is None or circle is None:
+            return {}
+        return {"fos_vs_bishop": Check(
+            self.safety.factor, circle.factor, None, "-",
+            "this project's Bishop simplified search over circles, same section and lift")}
+
+    def report(self, solver: PlasticSolver, state: ContinuumState, wall_time: float, *,
+               measures: Mapping[str, Any] | None = None,
+               groups: Mapping[str, np.ndarray] | None = None) -> dict[str, Any]:
+        """The construction in numbers for a summary.
+
+        "completed", the "stages" records, "fill_level_<unit>" (:attr:`level_carried`; the
+        unit in lower case, e.g. "fill_level_m_od"), "collapsing_lift" (:attr:`collapse`),
+        then the caller's own ``measures`` of the state (e.g. its extreme displacements),
+        "yielded_cells" of ``state`` (all ranks), the yielded fraction of each of ``groups``
+        (``ContinuumState.yielded_fractions``), the solver's "newton_iterations" in all and
+        ``wall_time`` ("wall_time_s"). ``state``: the state the numbers come from
+        (:meth:`last_equilibrium`). Collective.
+        """
+        return {"completed": self.completed, "stages": self.stages,
+                f"fill_level_{self.unit.lower()}": self.level_carried,
+                "collapsing_lift": self.collapse, **(measures or {}),
+                "yielded_cells": state.comm.allreduce(len(state.yielded_cells())),
+                **state.yielded_fractions(groups or {}),
+                "newton_iterations": solver.iterations_total, "wall_time_s": wall_time}
 
     def last_equilibrium(self, solver: PlasticSolver, mesh: MeshData) -> ContinuumState:
         """The state the figures and numbers of a construction come from.

@@ -109,6 +109,7 @@ class RestRun:
         state: the state run (advanced in place: the end of the run).
         n_elements: its elements at the start.
         mass: its mass at the start [t/m].
+        window: the figures' (xmin, ymin, xmax, ymax) [m] (None: all elements).
     """
 
     result: RunResult
@@ -117,6 +118,7 @@ class RestRun:
     state: DiscreteState
     n_elements: int
     mass: float
+    window: tuple[float, float, float, float] | None = None
 
     def checks(self) -> dict[str, Check]:
         """The standard checks of the run (:func:`~hybrid.discrete.energy.conservation_checks`).
@@ -124,6 +126,17 @@ class RestRun:
         Energy never above its sources, the elements and the mass of the start kept.
         """
         return conservation_checks(self.result.history, self.state, self.n_elements, self.mass)
+
+    def final_figure(self, path: str | Path,
+                     lines: dict[str, np.ndarray] | None = None) -> Path:
+        """The configuration at the end, titled with the time and why the run stopped.
+
+        :func:`~hybrid.discrete.figures.plot_configuration` in ``window``, the outline at the
+        start dashed, ``lines`` on top (e.g. a slip surface's).
+        """
+        res = self.result
+        return plot_configuration(path, self.state, window=self.window, lines=lines,
+                                  outline=True, title=f"t = {res.time:.3g} s ({res.stop_reason})")
 
     def report(self) -> dict[str, Any]:
         """The run in numbers for a summary.
@@ -184,7 +197,8 @@ def run_to_rest(state: DiscreteState, out: str | Path, options: RunOptions, *,
                             rest_min_steps=rest_min_steps, on_check=snapshots,
                             check_every=check_every)
     return RestRun(result, figures + snapshots.paths,
-                   [f for f in solver.files if f.suffix != ".png"], state, n_elements, mass)
+                   [f for f in solver.files if f.suffix != ".png"], state, n_elements, mass,
+                   window)
 
 
 def require_serial(case: str) -> None:
