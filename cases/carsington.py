@@ -12,6 +12,10 @@ Problem
     1.5 m of yellow clay atop the foundation upstream of the boot, 36 m long (the thesis's 18
     elements). Undrained total stress (pore pressures inside the strengths), Table 6.3, psi = 0,
     no tension in the fill and the clays (thesis 6.3.1.1); the berm has Zone II's properties.
+    Beyond the thesis (``softening``): the strengths fall to residual over a slip ``u_r``
+    (``softening_displacement``): the fill to c = 0 and Table 6.2's phi_r, the phi = 0 clays to
+    c_u tan(phi_r') / tan(phi') of Table 6.2 (the drained residual-to-peak ratio, assumed to
+    hold undrained); no expert option of the discrete phase is then needed.
 Set-up
     Base fixed, sides on vertical rollers. Stage 1: gravity on the foundation (key trench open),
     displacements zeroed. Stages 2-6: five lifts (tops 175.6 with the berm, 182, 190, 198, 200.5
@@ -45,6 +49,7 @@ References
 from __future__ import annotations
 
 import functools
+import math
 import time
 from dataclasses import dataclass
 from pathlib import Path
@@ -69,7 +74,7 @@ from hybrid.figures import Column, plot_level_history, staged_figures
 from hybrid.geometry import build_mesh, load_mesh_script
 from hybrid.handover import Region, element_groups, from_construction
 from hybrid.io import CaseSummary, Check, write_continuum_xdmf
-from hybrid.materials import Bond, Contact, Material
+from hybrid.materials import Bond, Contact, Material, Strength
 from hybrid.model import Fixed, Model, Roller
 from hybrid.parameters import CELLS, CaseParameters, param
 
@@ -83,7 +88,7 @@ SECTION = ("yellow_clay_thickness", "yellow_clay_length", "boot_length", "lifts"
 PUBLISHED_PROBLEM = (*SECTION, "no_tension", "foundation_E", "foundation_nu", "foundation_gamma",
                      "yellow_clay_cu", "yellow_clay_E", "yellow_clay_nu", "yellow_clay_gamma",
                      "core_cu", "core_E", "core_nu", "core_gamma", "fill_c", "fill_phi",
-                     "fill_E", "fill_nu", "fill_gamma", "strength_factor")
+                     "fill_E", "fill_nu", "fill_gamma", "strength_factor", "softening")
 
 
 @dataclass
@@ -114,6 +119,10 @@ class Parameters(CaseParameters):
     fill_nu: float = 0.38  # [-]
     fill_gamma: float = 21.0  # [kN/m3]
     no_tension: bool = True  # tension cut-off 0 in the fill and the clays (thesis 6.3.1.1)
+    softening: bool = False  # strengths fall to residual (beyond the thesis: its Problem)
+    softening_displacement: float = param(0.5, gt=0)  # u_r: slip from peak to residual [m]
+    yellow_clay_peak_phi: float = 20.0  # drained phi' [deg] (Table 6.2; softening's ratio)
+    core_peak_phi: float = 21.0  # drained phi' [deg] (Table 6.2; softening's ratio)
     node_a_x: float = 0.0  # the thesis's node A [m from the axis] (assumed: the core's axis,
     node_a_y: float = 166.5  # [m OD] at the top of the boot)
     strength_factor: float = param(1.0, gt=0)  # c, tan(phi) / this while building (< 1: stronger)
@@ -127,8 +136,8 @@ class Parameters(CaseParameters):
     # discrete phase (post-failure)
     discrete_time: float = param(15.0, ge=0)  # at most, earlier at rest [s] (0: continuum only)
     region_layers: int = param(2, ge=0)  # growth of the splittable region around the yielded cells
-    split_plastic_strain: float = param(0.02, gt=0)  # bonds also fail beyond this [-]
-    plastic_strain_cap: float | None = param(2.0, gt=0)  # element flow limit [-] (None: none)
+    split_plastic_strain: float = param(0.02, gt=0)  # bonds also fail beyond [-] (no softening)
+    plastic_strain_cap: float | None = param(2.0, gt=0)  # flow limit [-] (None; no softening)
     mass_damping: float = param(0.5, ge=0)  # mass damping alpha [1/s]
     contact_damping: float = param(0.2, ge=0, le=1)  # normal contact damping ratio [-]
     yellow_clay_residual_phi: float = 12.0  # contact friction [deg] (Table 6.2)
@@ -145,24 +154,34 @@ def materials(p: Parameters) -> dict[str, Material]:
 
     Discrete phase: bonds as strong as the material, with a tension cut-off of c for the
     phi = 0 clays (assumed); separated elements slide at the residual angles of Table 6.2
-    (yellow clay 12, core 13, Zone II 14.5 deg; Zone I and the berm as Zone II: assumed)."""
+    (yellow clay 12, core 13, Zone II 14.5 deg; Zone I and the berm as Zone II: assumed).
+    With ``softening`` the residual strengths of the module's Problem."""
     def contact(phi: float) -> Contact:
         return Contact(phi=phi, damping=p.contact_damping)
+
+    def residual(c: float, phi: float) -> dict[str, Any]:
+        return ({"residual": Strength(cohesion=c, phi=phi),
+                 "softening_displacement": p.softening_displacement} if p.softening else {})
+
+    def ratio(phi_r: float, phi_peak: float) -> float:
+        return math.tan(math.radians(phi_r)) / math.tan(math.radians(phi_peak))
 
     cut = 0.0 if p.no_tension else None
     fill = {"cohesion": p.fill_c, "phi": p.fill_phi, "E": p.fill_E, "nu": p.fill_nu,
             "unit_weight": p.fill_gamma, "tensile_strength": cut,
-            "contact": contact(p.fill_residual_phi)}
+            "contact": contact(p.fill_residual_phi), **residual(0.0, p.fill_residual_phi)}
     clay = {"yellow_clay": ("yellow clay", p.yellow_clay_E, p.yellow_clay_nu,
-                            p.yellow_clay_gamma, p.yellow_clay_cu, p.yellow_clay_residual_phi),
-            "core": ("core", p.core_E, p.core_nu, p.core_gamma, p.core_cu, p.core_residual_phi)}
+                            p.yellow_clay_gamma, p.yellow_clay_cu, p.yellow_clay_residual_phi,
+                            p.yellow_clay_peak_phi),
+            "core": ("core", p.core_E, p.core_nu, p.core_gamma, p.core_cu, p.core_residual_phi,
+                     p.core_peak_phi)}
     return {
         "foundation": Material(name="mudstone", E=p.foundation_E, nu=p.foundation_nu,
                                unit_weight=p.foundation_gamma, contact=contact(p.fill_phi)),
         **{key: Material(name=name, E=E, nu=nu, unit_weight=gamma, cohesion=cu,
                          tensile_strength=cut, bond=Bond(tensile_strength=cu),
-                         contact=contact(phi_r))
-           for key, (name, E, nu, gamma, cu, phi_r) in clay.items()},
+                         contact=contact(phi_r), **residual(cu * ratio(phi_r, phi_peak), 0.0))
+           for key, (name, E, nu, gamma, cu, phi_r, phi_peak) in clay.items()},
         **{key: Material(name=name, **fill)
            for key, name in (("zone_I", "Zone I"), ("zone_II", "Zone II"), ("berm", "berm"))},
     }
@@ -197,8 +216,7 @@ def continuum_phase(p: Parameters, out: Path) -> tuple[PlasticSolver, Constructi
     solver.set_active(list(GROUND))
     solver.apply_gravity(steps=p.gravity_steps).require()
     gravity_iterations = solver.iterations_total
-    far_point = (g.extent[1] - 5.0, 0.5 * (g.extent[2] + g.foundation_level))
-    far = at_rest_checks(solver.state(), far_point, ground_level=g.foundation_level,
+    far = at_rest_checks(solver.state(), g.far_field_point(), ground_level=g.foundation_level,
                          unit_weight=p.foundation_gamma, nu=p.foundation_nu,
                          where="below the level ground downstream")
     solver.reset_displacement()
@@ -225,12 +243,10 @@ def continuum_phase(p: Parameters, out: Path) -> tuple[PlasticSolver, Constructi
     circle = None if safety is None else bishop_circle(model, built.safety_active)
 
     # figures: the end of construction (or the last equilibrium), node A against the fill level
-    window = (g.berm_toe - 30.0, g.foundation_level - 25.0, g.downstream_toe + 30.0,
-              g.crest_level + 3.0)
     core = np.isin(np.arange(base_mesh.num_owned_cells), base_mesh.cells("core")) & state.active
     column = Column(core, p.node_a_x, g.foundation_level - g.trench_depth + 0.1,
                     g.crest_level - 0.1, tops, "the axis", "core")
-    paths = staged_figures(out, base_mesh, state, built, window=window, column=column,
+    paths = staged_figures(out, base_mesh, state, built, window=g.window(), column=column,
                            circle=circle, elevation_label="elevation [m OD]",
                            engineering=f"fill at {carried:g} m OD")
     paths.append(plot_level_history(
@@ -300,24 +316,21 @@ def discrete_phase(solver: PlasticSolver, built: Construction, continuum_checks:
         return {}
     disc, g, group = hand.discrete, section(p), element_groups(hand)  # lifts merged
     disc.fix(np.unique(disc.element_nodes[group == "foundation"]))
-    centroid = disc.element_centroids()
-    boot = (group == "core") & (centroid[:, 1] < g.foundation_level + g.boot_height)
-    upstream_shoulder = np.isin(group, ["zone_I", "zone_II", "berm"]) & (centroid[:, 0] < 0.0)
-    half_crest = 0.5 * g.crest_width + 10.0  # the fill top near the axis
-    slope = SlopeMarks.pick(disc, ~np.isin(group, GROUND), crest_x=(-half_crest, half_crest))
-    window = (g.berm_toe - 40.0, g.foundation_level - 15.0, g.downstream_toe + 20.0,
-              g.crest_level + 5.0)
+    zone = g.zones(group, disc.element_centroids())
+    slope = SlopeMarks.pick(disc, zone["embankment"], crest_x=g.crest_range)
+    # the thesis's perfectly plastic materials need the expert options; softening ones do not
+    expert = {} if p.softening else {"split_plastic_strain": p.split_plastic_strain,
+                                     "plastic_strain_cap": p.plastic_strain_cap}
     options = RunOptions(dt=0.5 * stable_time_step(disc, contact=True), split_every=10,
-                         mass_damping=p.mass_damping, split_plastic_strain=p.split_plastic_strain,
-                         plastic_strain_cap=p.plastic_strain_cap)
+                         mass_damping=p.mass_damping, **expert)
     run = run_to_rest(disc, out, options, until_time=p.discrete_time, rest=p.rest,
-                      frames=p.frames, snapshot_times=(1.0, 3.0, 6.0, 10.0), window=window,
+                      frames=p.frames, snapshot_times=(1.0, 3.0, 6.0, 10.0), window=g.window(True),
                       progress=p.progress)
     surface = SlipSurface.of(disc, p.slip_min,
-                             {"yellow_clay": group == "yellow_clay", "boot": boot})
+                             {"yellow_clay": group == "yellow_clay", "boot": zone["boot"]})
     paths = [*run.figures, run.final_figure(out / "discrete_final.png", surface.lines(disc))]
     published, moved = uses_defaults(p, PUBLISHED_PROBLEM), slope.movement(disc)
-    shoulder_dx = mean_displacement(disc, upstream_shoulder)[0]
+    shoulder_dx = mean_displacement(disc, zone["upstream_shoulder"])[0]
     checks = {
         **surface.checks({"yellow_clay": "a yellow-clay element",
                           "boot": "an element of the core's boot"}),

@@ -18,6 +18,8 @@ elevation (``hybrid.continuum.staging.split_into_lifts``; the boot in the key tr
 
 from dataclasses import dataclass
 
+import numpy as np
+
 from hybrid.geometry import physical_group, quad_options
 
 __all__ = ["Section", "build", "lift_tops"]
@@ -152,6 +154,36 @@ class Section:
         return [(-half, yc), (-half - b * (yc - boot_top), boot_top),
                 (-self.boot_length, boot_top), (-self.boot_length, trench), (x_down, trench),
                 (x_down, self.foundation_level), (half, yc)]
+
+    def window(self, discrete: bool = False) -> tuple[float, float, float, float]:
+        """(xmin, ymin, xmax, ymax) [m] of the figures: the dam and some ground; wider for the
+        discrete phase, whose upstream slope runs out."""
+        if discrete:
+            return (self.berm_toe - 40.0, self.foundation_level - 15.0,
+                    self.downstream_toe + 20.0, self.crest_level + 5.0)
+        return (self.berm_toe - 30.0, self.foundation_level - 25.0, self.downstream_toe + 30.0,
+                self.crest_level + 3.0)
+
+    @property
+    def crest_range(self) -> tuple[float, float]:
+        """x range [m] of the fill top taken as the crest: the crest and 10 m either side."""
+        half = 0.5 * self.crest_width + 10.0
+        return (-half, half)
+
+    def far_field_point(self) -> tuple[float, float]:
+        """A point in the foundation 5 m inside the downstream boundary, half-way down [m]."""
+        x_right, y_base = self.extent[1], self.extent[2]
+        return (x_right - 5.0, 0.5 * (y_base + self.foundation_level))
+
+    def zones(self, group: np.ndarray, centroid: np.ndarray) -> dict[str, np.ndarray]:
+        """Element masks of the post-failure measures from the groups and centroids [m]: the
+        core's boot, the upstream shoulder (fill upstream of the axis) and the embankment (all
+        but the ground)."""
+        return {"boot": (group == "core")
+                & (centroid[:, 1] < self.foundation_level + self.boot_height),
+                "upstream_shoulder": np.isin(group, ["zone_I", "zone_II", "berm"])
+                & (centroid[:, 0] < 0.0),
+                "embankment": ~np.isin(group, ["foundation", "yellow_clay"])}
 
     def node_a_candidates(self) -> dict[str, tuple[float, float]]:
         """Where in the core the thesis's node A may be [m, m OD] (measured beside it).

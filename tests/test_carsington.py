@@ -5,6 +5,7 @@ import json
 import meshio
 import numpy as np
 import pytest
+from conftest import assert_bars
 
 from hybrid import references
 from hybrid.continuum.staging import lift_groups, split_into_lifts
@@ -229,3 +230,23 @@ def test_carsington_two_meshes(case, tmp_path):
     coarse, fine = (dict(map(tuple, r["core_displacement_mm"]["by_fill_level"])) for r in runs)
     for level in (175.6, 182.0, 190.0):
         assert fine[level] == pytest.approx(coarse[level], rel=0.15), level
+
+
+def test_carsington_softening_coarse(case, tmp_path):
+    """Beyond the thesis, coarse mesh: with the strengths falling to residual the dam carries
+    no more fill than with the thesis's perfectly plastic strengths (a residual is never above
+    its peak), and the discrete phase runs to rest with no expert option (the softened bonds
+    fail, the elements beside them stop yielding at residual): slip through the yellow clay
+    and the boot, the upstream shoulder moving upstream, energy bounded, elements and mass
+    kept."""
+    coarse = dict(size=15.0, layer_size=3.0, min_increment=0.05, safety=False, frames=2,
+                  progress=False)
+    thesis = case("carsington").main(out=tmp_path / "thesis", discrete_time=0.0, **coarse)
+    soft = case("carsington").main(out=tmp_path / "soft", softening=True, **coarse)
+    carried = soft["construction"]["fill_level_m_od"]
+    assert carried <= thesis["construction"]["fill_level_m_od"]
+    assert soft["discrete"]["stop"] == "rest"
+    assert_bars(soft)
+    for name in ("slip_surface_through_yellow_clay", "slip_surface_through_boot",
+                 "shoulder_moves_upstream", "energy_excess_over_sources"):
+        assert soft["checks"][name].passed, name
