@@ -135,3 +135,37 @@ def test_load_mesh_script(tmp_path):
     (tmp_path / "empty.py").write_text("")
     with pytest.raises(GeometryError, match="defines no function 'build'"):
         load_builder(tmp_path / "empty.py")
+
+
+@pytest.mark.parametrize("cells", ["triangle", "quadrilateral"])
+def test_structured_footing_mesh(builder, cells):
+    """The footing's structured option: two transfinite blocks with the same named groups,
+    cells ``fine`` wide at the footing edge and growing geometrically to about ``coarse``."""
+    mesh = build_mesh(builder("footing"), width=4.8, depth=3.0, half_footing=0.6, fine=0.08,
+                      coarse=0.4, cells=cells, structured=True)
+    assert mesh.cell_type == cells
+    assert set(mesh.cell_groups) == {"soil"}
+    assert set(mesh.facet_groups) == {"footing", "surface", "right", "base", "symmetry"}
+    x, nodes = mesh.cell_vertices()
+    polys = x[nodes]
+    area = 0.5 * np.sum(polys[:, :, 0] * np.roll(polys[:, :, 1], -1, axis=1)
+                        - np.roll(polys[:, :, 0], -1, axis=1) * polys[:, :, 1], axis=1)
+    assert np.all(area > 0)
+    assert mesh.comm.allreduce(area.sum()) == pytest.approx(4.8 * 3.0, rel=1e-12)
+    # the cell at the footing edge, below the surface, is fine x fine; the corner far away
+    # about coarse x coarse (a quadrilateral, or two triangles)
+    per_quad = 1 if cells == "quadrilateral" else 2
+    at_edge = np.all(np.abs(polys - [0.6, 0.0]).max(axis=1) < 0.081, axis=1)
+    assert area[at_edge].sum() == pytest.approx(2 * 0.08 ** 2, rel=0.05)
+    assert at_edge.sum() == 2 * per_quad
+    far = np.all(polys.min(axis=1) > [4.3, -2.5], axis=1) & np.all(
+        polys.max(axis=1) < [4.8 + 1e-9, -2.5 + 0.6], axis=1)
+    assert np.all(np.sqrt(area[far] * per_quad) > 0.3)
+    # the grading fills its length from the first size to about the last
+    grading = load_mesh_script(Path(__file__).resolve().parent.parent / "meshes"
+                               / "footing.py").grading
+    n, r = grading(4.2, 0.08, 0.4)
+    sizes = 0.08 * r ** np.arange(n)
+    assert sizes.sum() == pytest.approx(4.2, rel=1e-9)
+    assert sizes[-1] == pytest.approx(0.4, rel=0.1)
+    assert grading(0.3, 0.08, 0.4) == (4, 1.0)  # shorter than the last size: uniform
