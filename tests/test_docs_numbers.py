@@ -170,6 +170,9 @@ QUOTES: list[Quote] = [
               *(h2()["parameters"][k] for k in ("fine", "cohesion", "phi", "psi",
                                                 "unit_weight")),
               h2()["parameters"]["E"] / 1000.0, h2()["parameters"]["nu"]]),
+    ("docs/hybrid.md", "the soil softens to c_r = {} kPa, phi_r = {} deg over a slip of\nu_r = {} m",
+     lambda: [h2()["parameters"][k] for k in ("residual_cohesion", "residual_phi",
+                                              "softening_displacement")]),
     ("docs/hybrid.md", "collapse at **{} kPa** (Vesic {} kPa: {} %; Meyerhof {}: {} %; Prandtl "
      "weightless {}: {} %; Terzaghi {}: {} %), {} increments, {} Newton iterations, {} s;",
      lambda: [h2()["continuum"]["collapse_pressure_kPa"],
