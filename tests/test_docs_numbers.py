@@ -113,6 +113,7 @@ def _wedge(mark: str, key: str) -> float:
 
 Quote = tuple[str, str, Callable[[], list[float]]]
 
+SOFT_ROW = "| {} | {} | {} | {} | lift {} (to {}), {} % | {} | {} | {} | {} |"
 QUOTES: list[Quote] = [
     # --- README: the demo -------------------------------------------------------------------
     ("README.md", "a strip footing (B = {} m, c = {} kPa, phi = {} deg)",
@@ -161,6 +162,26 @@ QUOTES: list[Quote] = [
      "{} |", lambda: _node_a("upstream_face_boot_top")),
     ("docs/carsington.md", "| the core's axis at the berm top | {} | {} | {} | {} |",
      lambda: _node_a("axis_berm_top")),
+    ("docs/carsington.md", "| {} (default) | {} | {} | {} | lift {} (to {}), {} % | {} | {} | {} | "
+     "{} |", lambda: _softening("carsington_softening")),
+    ("docs/carsington.md", "(fill carried {}-{} m OD) instead of the last lift",
+     lambda: [_json("docs/summaries/carsington_softening_ur0.2.json")["construction"][
+         "fill_level_m_od"], _json("docs/summaries/carsington_softening.json")["construction"][
+         "fill_level_m_od"]]),
+    ("docs/carsington.md", "| {} (default) | {} | {} | {} | lift {} (to {}), {} % | {} | {} | {} | "
+     "{} |", lambda: _softening("carsington_softening")),
+    # the rows of the softening table, each told apart by the row after it
+    ("docs/carsington.md", SOFT_ROW + "\n| 0.2",
+     lambda: _softening("carsington_softening_size4")),
+    ("docs/carsington.md", SOFT_ROW + "\n| 1.0",
+     lambda: _softening("carsington_softening_ur0.2")),
+    ("docs/carsington.md", SOFT_ROW + "\n\n- **Fill",
+     lambda: _softening("carsington_softening_ur1")),
+    ("docs/carsington.md", "({}, {} and {} m of toe movement for u_r {}, {} and {} m)",
+     lambda: [*(_json(f"docs/summaries/{n}.json")["discrete"]["toe_runout_m"] for n in (
+         "carsington_softening_ur0.2", "carsington_softening", "carsington_softening_ur1")),
+              *(_json(f"docs/summaries/{n}.json")["parameters"]["softening_displacement"] for n in (
+         "carsington_softening_ur0.2", "carsington_softening", "carsington_softening_ur1"))]),
     # --- docs/hybrid.md: H2 -----------------------------------------------------------------
     ("docs/hybrid.md", "B = {} m strip (half model {} m x {} m, {} Q4 / Q2 cells, {} m at the "
      "footing edge), c = {} kPa, phi = {} deg, psi = {}, gamma = {} kN/m3 (assumed), E = {} MPa, "
@@ -170,7 +191,7 @@ QUOTES: list[Quote] = [
               *(h2()["parameters"][k] for k in ("fine", "cohesion", "phi", "psi",
                                                 "unit_weight")),
               h2()["parameters"]["E"] / 1000.0, h2()["parameters"]["nu"]]),
-    ("docs/hybrid.md", "the soil softens to c_r = {} kPa, phi_r = {} deg over a slip of\nu_r = {} m",
+    ("docs/hybrid.md", "the soil softens to c_r = {} kPa, phi_r = {} deg over a slip of u_r = {} m",
      lambda: [h2()["parameters"][k] for k in ("residual_cohesion", "residual_phi",
                                               "softening_displacement")]),
     ("docs/hybrid.md", "collapse at **{} kPa** (Vesic {} kPa: {} %; Meyerhof {}: {} %; Prandtl "
@@ -207,6 +228,9 @@ QUOTES: list[Quote] = [
               h2()["discrete"]["energy_peak_over_supply"], h2()["discrete"]["elements"],
               h2()["discrete"]["mass_t_per_m"], h2()["discrete"]["steps"],
               h2()["discrete"]["wall_time_s"]]),
+    ("docs/hybrid.md", "The punch ran on by {} m while the load came off.",
+     lambda: [h2()["discrete"]["final_settlement_m"]
+              - h2()["discrete"]["settlement_at_unloading_m"]]),
     # --- docs/hybrid.md: H3 -----------------------------------------------------------------
     ("docs/hybrid.md", "Thesis wall H = {} m, sand phi = {} deg, c = 0, gamma = {}, E = {} MPa, "
      "nu = {}, psi = phi",
@@ -328,6 +352,16 @@ QUOTES: list[Quote] = [
               r1("a0.5_nx30")["parameters"]["nx"], r1("a0.5_nx10")["deposit"]["runout_m"],
               r1("a0.5")["deposit"]["runout_m"], r1("a0.5_nx30")["deposit"]["runout_m"]]),
 ]
+
+
+def _softening(name: str) -> list[float]:
+    """A row of docs/carsington.md's softening table from its summary."""
+    d = _json(f"docs/summaries/{name}.json")
+    collapse, disc = d["construction"]["collapsing_lift"], d["discrete"]
+    return [d["parameters"]["softening_displacement"], d["parameters"]["size"], d["mesh"]["cells"],
+            d["construction"]["fill_level_m_od"], collapse["lift"], collapse["top_m_OD"],
+            100.0 * collapse["weight_carried"], disc["toe_runout_m"], disc["crest_drop_m"],
+            disc["interfaces_failed"], disc["time_s"]]
 
 
 def _flat(text: str) -> str:

@@ -13,12 +13,11 @@ from pathlib import Path
 
 CASES = Path(__file__).resolve().parent.parent / "cases"
 EXPERT_OPTIONS = ("plastic_strain_cap", "split_plastic_strain")
-# knob-free not reached yet (docs/hybrid.md, H3 "Without the expert options"): without the
-# knobs H3's failed zone grows back to 35-43 deg at a face movement of 0.1 H (bar 60 +- 5 deg):
-# its whole wedge yields to residual and, elastic from there on (band_plastic_cap), gives way
-# (with the softening rule for the bonds and flow stopped at 0.3 instead it is 60.6 deg), and
-# Carsington's discrete stage is perfectly plastic (the thesis's Table 6.3), so nothing
-# makes its bonds fail where it flows
+# knob-free not reached yet (docs/hybrid.md): H3's whole Rankine wedge yields to residual and,
+# elastic from there on beside its failed bonds (band_plastic_cap), gives way faster than the
+# yielding sand, so its failed zone falls well below 45 + phi/2; Carsington's thesis analysis
+# is perfectly plastic (Table 6.3: nothing softens to make its bonds fail where it flows; its
+# softening analysis, --set softening=true, sets no option)
 STILL_SET = {"retaining_wall_collapse", "carsington"}
 
 
