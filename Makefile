@@ -74,7 +74,17 @@ docs: setup
 	    $(PY) -m hybrid run cases/carsington.py --out $(DOCS_RUN)/carsington_$$1 --overwrite \
 	    --set progress=false --set safety=false --set softening=true \
 	    --set softening_displacement=$$2 --set size=$$3 || [ $$? -eq 4 ] || exit 1; done
+	# H2's mesh sensitivity (docs/hybrid.md): coarser meshes to rest, finer ones and the
+	# structured one to the handover
+	for run in "fine0.16 --set fine=0.16" "fine0.12 --set fine=0.12"; do set -- $$run; \
+	    $(PY) -m hybrid run cases/footing_failure.py --out $(DOCS_RUN)/h2_$$1 --overwrite \
+	    --set progress=false $$2 $$3 || exit 1; done
+	for run in "fine0.04 --set fine=0.04" "structured --set structured=true"; do set -- $$run; \
+	    $(PY) -m hybrid run cases/footing_failure.py --out $(DOCS_RUN)/h2_$$1 --overwrite \
+	    --set progress=false --set discrete=false $$2 $$3 || exit 1; done
 	mkdir -p docs/summaries docs/figures/hybrid docs/figures/carsington
+	for c in h2_fine0.16 h2_fine0.12 h2_fine0.04 h2_structured; do \
+	    cp $(DOCS_RUN)/$$c/summary.json docs/summaries/$$c.json; done
 	for c in h2 h3 d10 carsington carsington_last_lift carsington_softening \
 	    carsington_softening_ur0.2 carsington_softening_ur1 carsington_softening_size4; do \
 	    cp $(DOCS_RUN)/$$c/summary.json docs/summaries/$$c.json; done

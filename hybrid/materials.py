@@ -332,6 +332,19 @@ class Material:
                         tensile_strength=self.tensile_strength)
 
     @property
+    def softens(self) -> bool:
+        """True when strain softening leads to a residual strength below the peak.
+
+        That is, a residual c, phi, dilation or tension cut-off lower than the peak's.
+        """
+        r, p = self.residual, self.peak
+        if r is None:
+            return False
+        return (r.cohesion < p.cohesion or r.phi < p.phi or r.psi < p.psi
+                or (r.tensile_strength is not None
+                    and (p.tensile_strength is None or r.tensile_strength < p.tensile_strength)))
+
+    @property
     def shear_modulus(self) -> float:
         """G = E / (2 (1 + nu)) [kPa]."""
         return self.E / (2.0 * (1.0 + self.nu))

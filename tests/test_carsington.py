@@ -178,10 +178,12 @@ def test_carsington_smoke(case, tmp_path):
     assert d["elements"] == summary["handover"]["elements"] > 0
     for name in ("elements_conserved", "mass_conserved", "energy_excess_over_sources"):
         assert summary["checks"][name].passed, name
-    # the observed movements (published reference data) beside the measured ones
-    for name, (value, source) in references.CARSINGTON_POST_FAILURE.items():
+    # stopped by its time limit, not at rest: the rest check fails and the movements are not
+    # set beside the observed ones (a slide still moving is no final configuration)
+    assert d["stop"] == "time" and not summary["checks"]["rest_kinetic_ratio"].passed
+    for name, (_, source) in references.CARSINGTON_POST_FAILURE.items():
         check = summary["checks"][name]
-        assert (check.reference, check.source) == (value, source), name
+        assert check.reference is None and source in check.source, name
     assert summary["checks"]["crest_drop"].computed == d["crest_drop_m"]
     assert summary["checks"]["upstream_toe_movement"].computed == d["toe_runout_m"]
     series = meshio.xdmf.TimeSeriesReader(tmp_path / "discrete" / "discrete.xdmf")

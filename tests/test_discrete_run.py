@@ -148,7 +148,8 @@ def test_run_to_rest_writes_the_standard_outputs(tmp_path):
     assert report["interfaces_failed"] == 0 and 0.0 < report["energy_peak_over_supply"] <= 1.0
     assert report["outputs"] == [str(p) for p in done.outputs]
     checks = done.checks()
-    assert set(checks) == {"energy_excess_over_sources", "elements_conserved", "mass_conserved"}
+    assert set(checks) == {"energy_excess_over_sources", "elements_conserved", "mass_conserved",
+                           "rest_kinetic_ratio"}
     assert all(c.passed for c in checks.values())
     final = done.final_figure(tmp_path / "d_final.png")
     assert final == tmp_path / "d_final.png" and final.stat().st_size > 0

@@ -60,6 +60,16 @@ def test_elastic_material_refuses_a_residual_strength():
                  softening_displacement=0.1)
 
 
+def test_softens_only_below_the_peak():
+    """A residual equal to the peak is no softening (perfect plasticity with a u_r given);
+    a lower c, phi, dilation or cut-off is."""
+    same = _tresca(residual=Strength(cohesion=C_PEAK))
+    assert not same.softens
+    assert not Material(name="m", E=E, nu=NU, cohesion=C_PEAK).softens
+    assert _tresca().softens
+    assert _tresca(cohesion=0.0, phi=30.0, psi=10.0, residual=Strength(phi=30.0)).softens
+
+
 def test_weakened_material_weakens_the_residual_too():
     m = _tresca(cohesion=20.0, phi=30.0, residual=Strength(cohesion=4.0, phi=20.0)).weakened(2.0)
     assert m.residual is not None
@@ -381,6 +391,32 @@ def test_an_element_beside_its_failed_band_stops_yielding_at_residual():
                                                          cohesion=10.0), gravity=(0.0, 0.0))
     ties.split_interfaces(rigid, np.ones(rigid.interface_intact.size, dtype=bool))
     assert np.all(np.isinf(ties.band_plastic_cap(rigid)))
+
+
+def test_a_split_made_by_a_callback_caps_the_elements_beside_it():
+    """Bonds broken by a run's ``on_check`` (not by the solver's own splitting) count too:
+    the pair split at the first check, before any yield, stops yielding at kappa_r."""
+    from hybrid.discrete import ties
+    from hybrid.discrete.solver import ExplicitSolver, RunOptions
+
+    h = 0.5
+    st = rectangle(2 * h, h, 2, 1, material=_tresca(), gravity=(0.0, 0.0))
+    bottom = np.isclose(st.x_ref[:, 1], 0.0)
+    V = 0.01 * h
+    st.fix(bottom)
+    st.fix(~bottom, velocity=(V, 0.0))
+
+    def split_all(s) -> bool:
+        if s.interface_intact[s.interface_splittable].any():
+            assert s.plastic_strain.max() == 0.0  # before any yield
+            ties.split_interfaces(s, s.interface_splittable.copy())
+        return False
+
+    gamma_end = 3.0 * (U_R / h + C_RES / G)
+    with ExplicitSolver(st, RunOptions(contact=False)) as solver:
+        solver.run(until_time=gamma_end * h / V, on_check=split_all, check_every=10)
+    kappa_r = U_R / (math.sqrt(3.0) * h)
+    assert kappa_r <= st.plastic_strain.max() < 1.01 * kappa_r
 
 
 def test_contact_friction_defaults_to_the_residual_angle():

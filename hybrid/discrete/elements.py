@@ -429,9 +429,12 @@ def internal_forces(state: DiscreteState, dt: float = 0.0, *, bbar: bool = True)
         raise ValueError(f"dt = {dt!r}: must be a finite number >= 0 [s]")
     if state.nen not in (3, 4):
         raise ValueError(f"element_nodes has {state.nen} columns: expected 4 (Q4) or 3 (T3)")
+    # dt = 0: no return mapping, so that stresses outside the yield surface (elastic points
+    # beside failed bonds) stay as they are
+    cap = np.zeros(state.element_nodes.shape[0]) if dt == 0.0 else None
     element_forces(state.x, state.v, float(dt), state.element_nodes, state.element_material,
                    state.material_table, state.elastic_only, state.element_length, state.stress,
-                   state.plastic_strain, state.yielded, state.internal_force, bbar)
+                   state.plastic_strain, state.yielded, state.internal_force, bbar, cap)
     assert state.internal_force is not None  # set in DiscreteState.__post_init__
     return state.internal_force
 

@@ -14,6 +14,7 @@ then updates the stresses for du = dt v and computes I on the new configuration.
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -226,13 +227,30 @@ def step(state: DiscreteState, dt: float, *, mass_damping: float = 0.0,
     element_forces(state.x, state.v, float(dt), state.element_nodes, state.element_material,
                    state.material_table, state.elastic_only, state.element_length,
                    state.stress, state.plastic_strain, state.yielded, state.internal_force,
-                   bbar, (plastic_strain_cap if isinstance(plastic_strain_cap, np.ndarray)
-                          else np.full(state.element_nodes.shape[0], float(plastic_strain_cap))))
+                   bbar, _point_caps(plastic_strain_cap, state.element_nodes.shape[0]))
     state.time += dt
     state.step += 1
 
 
 _EMPTY = np.zeros((1, 2))
+
+
+@functools.lru_cache(maxsize=8)
+def _uniform_cap(value: float, n_elements: int) -> np.ndarray:
+    """One cap for every element, made once per (value, size) and read-only."""
+    out = np.full(n_elements, value)
+    out.flags.writeable = False
+    return out
+
+
+def _point_caps(cap: float | np.ndarray, n_elements: int) -> np.ndarray:
+    """The per-element plastic-strain cap of ``step`` (checked: the kernel does not)."""
+    if isinstance(cap, np.ndarray):
+        if cap.shape != (n_elements,) or cap.dtype != np.float64:
+            raise ValueError(f"plastic_strain_cap: an array of shape ({n_elements},) float64 "
+                             f"(one per element), not {cap.shape} {cap.dtype}")
+        return cap
+    return _uniform_cap(float(cap), n_elements)
 
 
 def kinetic_energy(state: DiscreteState) -> float:

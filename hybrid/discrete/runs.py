@@ -110,6 +110,7 @@ class RestRun:
         n_elements: its elements at the start.
         mass: its mass at the start [t/m].
         window: the figures' (xmin, ymin, xmax, ymax) [m] (None: all elements).
+        rest: the kinetic / strain energy ratio taken as rest [-].
     """
 
     result: RunResult
@@ -119,13 +120,23 @@ class RestRun:
     n_elements: int
     mass: float
     window: tuple[float, float, float, float] | None = None
+    rest: float = 1e-4
+
+    @property
+    def at_rest(self) -> bool:
+        """The run stopped at rest (not by its time or step limit)."""
+        return self.result.stop_reason == "rest"
 
     def checks(self) -> dict[str, Check]:
-        """The standard checks of the run (:func:`~hybrid.discrete.energy.conservation_checks`).
+        """The standard checks of the run: at rest, energy bounded, elements and mass kept.
 
-        Energy never above its sources, the elements and the mass of the start kept.
+        At rest: E_kin / max(peak E_kin, E_strain) at most ``rest``; the others are
+        :func:`~hybrid.discrete.energy.conservation_checks`.
         """
-        return conservation_checks(self.result.history, self.state, self.n_elements, self.mass)
+        return {**conservation_checks(self.result.history, self.state, self.n_elements,
+                                      self.mass),
+                "rest_kinetic_ratio": Check(self.result.rest_ratio, 0.0, self.rest, "-",
+                                            "at rest: E_kin / max(peak E_kin, E_strain)")}
 
     def final_figure(self, path: str | Path,
                      lines: dict[str, np.ndarray] | None = None) -> Path:
@@ -198,7 +209,7 @@ def run_to_rest(state: DiscreteState, out: str | Path, options: RunOptions, *,
                             check_every=check_every)
     return RestRun(result, figures + snapshots.paths,
                    [f for f in solver.files if f.suffix != ".png"], state, n_elements, mass,
-                   window)
+                   window, rest)
 
 
 def require_serial(case: str) -> None:

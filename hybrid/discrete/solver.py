@@ -79,14 +79,15 @@ class RunOptions:
             phases).
         bbar: Q4 with the mean-dilatation B-bar (True, no volumetric locking) or full 2x2
             integration (False, as dolfinx Q1).
-        plastic_strain_cap: a Gauss point whose accumulated plastic strain reaches it
-            responds elastically from then on [-] (None: no cap): the element has handed its
-            failure to its failed interfaces and slides on them instead of flowing further
-            (without it a psi = 0 element under the footing edge of H2 flowed to a plastic
-            strain of 43 at one Gauss point and turned inside out at t = 0.06 s).
+        plastic_strain_cap: expert option for materials without softening: a Gauss point
+            whose accumulated plastic strain reaches it responds elastically from then on [-]
+            (None: no cap), so that a perfectly plastic element flowing without end does not
+            turn inside out. With softening materials none is needed: an element beside a
+            failed bond stops yielding at its residual (``ties.band_plastic_cap``).
         split_every: check the interfaces for failure and split every N steps (0: never).
-        split_plastic_strain: interfaces also fail where the adjacent Gauss points' mean
-            plastic strain exceeds it [-] (None: only the strength criteria, see ``ties``).
+        split_plastic_strain: expert option for materials without softening: interfaces
+            also fail where the adjacent Gauss points' mean plastic strain exceeds it [-]
+            (None: the strength criteria and softening only, see ``ties``).
         contact: contact detection and forces; None: on when ``hybrid.discrete.contact``
             exists and there are several bodies or splitting.
         contact_refresh: steps between contact-pair searches (also after each splitting
@@ -175,6 +176,8 @@ class RunResult:
         check of a case, so that the check and the stop never disagree.
         """
         h = self.history
+        if not len(h.get("kinetic", ())):
+            raise ValueError("rest_ratio: the run has no energy history")
         kin, strain = float(h["kinetic"][-1]), float(h["strain"][-1])
         return kin / max(self.peak_kinetic, kin, strain, 1e-300)
 
@@ -424,6 +427,7 @@ class ExplicitSolver:
         st = self.state
         self._external = bool(np.any(st.external_force))
         self._point_cap = ties.band_plastic_cap(st, self._cap)
+        self._n_failed = int(np.count_nonzero(~st.interface_intact))  # that the cap is of
         mass_tot = float(np.sum(st.mass))
         # floor of the contact search margin [m]
         self._margin_floor = 1e-6 * math.sqrt(mass_tot / float(st.density.max()))
@@ -478,6 +482,7 @@ class ExplicitSolver:
             if modes.any():
                 self.n_split += ties.split_interfaces(st, modes > 0)
                 self._point_cap = ties.band_plastic_cap(st, self._cap)
+                self._n_failed = int(np.count_nonzero(~st.interface_intact))
         self.steps += 1
 
     @property
@@ -605,9 +610,14 @@ class ExplicitSolver:
                             and led.kinetic <= until_rest * max(r.peak_ke, led.strain)):
                         stop = "rest"
                         break
-                    if on_check is not None and on_check(st):
-                        stop = "callback"
-                        break
+                    if on_check is not None:
+                        n_failed = self._n_failed
+                        done = on_check(st)
+                        if int(np.count_nonzero(~st.interface_intact)) != n_failed:
+                            self._point_cap = ties.band_plastic_cap(st, self._cap)  # it split
+                        if done:
+                            stop = "callback"
+                            break
                 for obs in observers:
                     obs.stepped(self)
         except BaseException:
@@ -713,6 +723,11 @@ class ExplicitSolver:
         done = []
         for i in range(n_done):
             p = f"solver.done{i}."
+            if len(extra[p + "numbers"]) != len(_RESULT_NUMBERS):
+                raise ValueError(f"checkpoint {path}: its run results have "
+                                 f"{len(extra[p + 'numbers'])} numbers, this version "
+                                 f"{len(_RESULT_NUMBERS)}: written by another version of "
+                                 "hybrid; rerun without --resume")
             nums = dict(zip(_RESULT_NUMBERS, extra[p + "numbers"], strict=True))
             res = RunResult(stop_reason=str(extra[p + "stop_reason"]),
                             steps=int(nums["steps"]), time=float(nums["time"]),
@@ -857,8 +872,10 @@ def _cause(state: DiscreteState, dt: float, contact: bool | None) -> str:
         crit = integrate.stable_time_step(state, contact=contact)
         if dt > crit:
             return (f"Cause: the elements have distorted so much that the stable time step fell "
-                    f"to {crit:.4g} s, below dt = {dt:.4g} s (see plastic_strain_cap and "
-                    "split_plastic_strain, or reduce dt).")
+                    f"to {crit:.4g} s, below dt = {dt:.4g} s (give the flowing material a "
+                    "residual strength and a softening displacement so that its bonds fail "
+                    "where it flows; without softening, the expert options plastic_strain_cap "
+                    "and split_plastic_strain; or reduce dt).")
     return (f"Likely cause: dt = {dt:.4g} s too large for the current mesh or contact "
             "stiffness (reduce dt or the safety factor), or an element inverted under a "
             "too large deformation.")
@@ -932,7 +949,9 @@ def _check_distortion(state: DiscreteState, dt: float, contact: bool) -> None:
         raise RunUnstable(
             f"discrete run stopped at step {state.step} (t = {state.time:.6g} s): the elements "
             f"have distorted so much that the stable time step fell to {crit:.4g} s, below the "
-            f"run's dt = {dt:.4g} s (large plastic flow pancakes an element). Continue with a "
-            "smaller dt (RunOptions(dt=...)), let the flowing region split "
-            "(split_plastic_strain) or stop the flow inside elements beyond a plastic strain "
-            "(plastic_strain_cap, e.g. 0.3).")
+            f"run's dt = {dt:.4g} s (large plastic flow pancakes an element). Give the "
+            "flowing material a residual strength and a softening displacement (its bonds "
+            "then fail where it softens, and the elements beside them stop yielding), use "
+            "larger elements if its residual plastic strain u_r / (sqrt(3) h) is more than an "
+            "element can take, continue with a smaller dt (RunOptions(dt=...)), or, without "
+            "softening, use the expert options split_plastic_strain and plastic_strain_cap.")
