@@ -244,7 +244,9 @@ def main(out: str | Path = "results/footing_failure", **overrides) -> CaseSummar
     summary.write(out / "summary.json")
     sd, qd = np.array(curve_discrete).T if curve_discrete else (np.zeros(0), np.zeros(0))
     sc, qc = np.array(curve).T
-    plot_load_settlement(out / "load_settlement.png", sc, qc, estimates, label="continuum",
+    # the classical limit loads are drawn only for a soil they apply to (no softening)
+    plot_load_settlement(out / "load_settlement.png", sc, qc,
+                         {} if soil.softens else estimates, label="continuum",
                          more={"discrete (applied pressure)": (marks.offset + sd, qd)},
                          title="H2: footing load-settlement (settlement from the start)")
     # the whole discrete phase, loading and rest, as one ledger history

@@ -13,6 +13,7 @@ import pytest
 from conftest import assert_bars
 
 from hybrid.errors import RunUnstable, StageIncomplete
+from hybrid.references import strip_footing_estimates
 
 
 def _assert_outputs(out, summary):
@@ -73,14 +74,20 @@ def test_retaining_wall_collapse_coarse(case, tmp_path):
 
 
 def test_footing_failure_coarse(case, tmp_path):
-    """H2 on a coarse mesh: collapse load near the classical estimates (Vesic / Meyerhof within
-    10 %: coarse Q2 mesh), the discrete phase loaded, unloaded and at rest with bounded energy,
+    """H2 on a coarse mesh: the softening soil's peak near Vesic's limit load of the peak
+    strength (within 10 %: a coarse Q2 mesh, and a peak reached while only the band has
+    softened; the formula is no reference for a softening soil, so the case reports it
+    without one), the discrete phase loaded, unloaded and at rest with bounded energy,
     elements and mass kept."""
     s = case("footing_failure").main(out=tmp_path, fine=0.15, coarse=0.6, continuum_steps=12,
                                      output_every=500, progress=False)
     assert_bars(s)
     q = s["continuum"]["collapse_pressure_kPa"]
-    assert abs(q / s["checks"]["collapse_vs_Vesic"].reference - 1.0) < 0.10
+    p = s["parameters"]
+    vesic = strip_footing_estimates(p["cohesion"], p["phi"], p["unit_weight"],
+                                    p["footing_width"])["Vesic"]
+    assert abs(q / vesic - 1.0) < 0.10
+    assert s["checks"]["collapse_vs_Vesic"].reference is None  # the soil softens
     assert s["discrete"]["stop"] == "rest"
     assert s["discrete"]["settlement_at_unloading_m"] > 0.05
     assert s["discrete"]["interfaces_failed"] > 0
