@@ -242,6 +242,14 @@ QUOTES: list[Quote] = [
     ("docs/hybrid.md", "the final settlement moves by {} % across them and the heave by {} %",
      lambda: [_spread("final_settlement_m"), _spread("max_heave_beside_footing_m")]),
     # --- docs/hybrid.md: H3 -----------------------------------------------------------------
+    ("docs/hybrid.md", "| {} m | {} | {} | {} |\n| 0.5 m (default)",
+     lambda: _h3_row("h3_size1.0")),
+    ("docs/hybrid.md", "| {} m (default) | {} | {} | {} |", lambda: _h3_row("h3")),
+    ("docs/hybrid.md", "| {} m | {} | {} | {} |\n\nFrom 0.5", lambda: _h3_row("h3_size0.25")),
+    ("docs/hybrid.md", "From 0.5 to 0.25 m the wedge moves by {} deg and the run-out by {} %, "
+     "within 5 deg and 10 %", lambda: _h3_change("h3", "h3_size0.25")),
+    ("docs/hybrid.md", "from 1.0 to 0.5 m by\n{} deg and {} %.",
+     lambda: _h3_change("h3_size1.0", "h3")),
     ("docs/hybrid.md", "Thesis wall H = {} m, sand phi = {} deg, c = 0, gamma = {}, E = {} MPa, "
      "nu = {}, psi = phi",
      lambda: [h3()["parameters"]["height"], h3()["parameters"]["phi"],
@@ -393,6 +401,20 @@ def _spread(key: str) -> float:
     """Largest over smallest minus one [%] of an H2 discrete measure over the meshes at rest."""
     v = [_json(f"docs/summaries/{n}.json")["discrete"][key] for n in H2_MESHES[:3]]
     return 100.0 * (max(v) / min(v) - 1.0)
+
+
+def _h3_row(name: str) -> list[float]:
+    """A row of docs/hybrid.md's H3 mesh table from its summary."""
+    d = _json(f"docs/summaries/{name}.json")
+    disc = d["discrete"]
+    return [d["parameters"]["size"], disc["elements"], disc["wedge_angle_deg"], disc["runout_m"]]
+
+
+def _h3_change(coarse: str, fine: str) -> list[float]:
+    """|change of the wedge| [deg] and |change of the run-out| [%] from ``coarse`` to ``fine``."""
+    a, b = (_json(f"docs/summaries/{n}.json")["discrete"] for n in (coarse, fine))
+    return [abs(a["wedge_angle_deg"] - b["wedge_angle_deg"]),
+            100.0 * abs(b["runout_m"] / a["runout_m"] - 1.0)]
 
 
 def _flat(text: str) -> str:
