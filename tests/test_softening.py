@@ -328,18 +328,28 @@ def test_single_element_dissipates_the_softening_energy_per_band_area(h):
 
 
 # --- splitting that follows the softening ----------------------------------------------------
+PAIR_H = 0.5  # element size of the sheared pair [m]
+PAIR_V = 0.01 * PAIR_H  # speed of its top nodes [m/s]: shear strain rate 0.01 /s
+
+
+def _pair():
+    """Two softening elements side by side, the base held and the top nodes moving at PAIR_V:
+    simple shear."""
+    st = rectangle(2 * PAIR_H, PAIR_H, 2, 1, material=_tresca(), gravity=(0.0, 0.0))
+    bottom = np.isclose(st.x_ref[:, 1], 0.0)
+    st.fix(bottom)
+    st.fix(~bottom, velocity=(PAIR_V, 0.0))
+    return st
+
+
 def test_interface_fails_where_the_material_has_softened_to_residual():
     """Two softening elements sheared together: their shared interface holds while the
     strength is above residual (the shear stress never exceeds the bond's peak cohesion) and
     fails as 'softened' once the Gauss points beside it reach the residual slip."""
     from hybrid.discrete import ties
 
-    h = 0.5
-    st = rectangle(2 * h, h, 2, 1, material=_tresca(), gravity=(0.0, 0.0))
-    bottom = np.isclose(st.x_ref[:, 1], 0.0)
-    V = 0.01 * h
-    st.fix(bottom)
-    st.fix(~bottom, velocity=(V, 0.0))
+    h, V = PAIR_H, PAIR_V
+    st = _pair()
     dt = 0.5 * integrate.stable_time_step(st)
     inner = np.flatnonzero(st.interface_splittable & st.interface_intact)
     assert inner.size == 1
@@ -356,12 +366,8 @@ def _sheared_pair(split: bool, gamma_end: float):
     shear strain ``gamma_end``, with splitting checked every step (``split``) or never."""
     from hybrid.discrete.solver import ExplicitSolver, RunOptions
 
-    h = 0.5
-    st = rectangle(2 * h, h, 2, 1, material=_tresca(), gravity=(0.0, 0.0))
-    bottom = np.isclose(st.x_ref[:, 1], 0.0)
-    V = 0.01 * h
-    st.fix(bottom)
-    st.fix(~bottom, velocity=(V, 0.0))
+    h, V = PAIR_H, PAIR_V
+    st = _pair()
     with ExplicitSolver(st, RunOptions(split_every=1 if split else 0, contact=False)) as sol:
         sol.run(until_time=gamma_end * h / V)
     return st
@@ -399,12 +405,8 @@ def test_a_split_made_by_a_callback_caps_the_elements_beside_it():
     from hybrid.discrete import ties
     from hybrid.discrete.solver import ExplicitSolver, RunOptions
 
-    h = 0.5
-    st = rectangle(2 * h, h, 2, 1, material=_tresca(), gravity=(0.0, 0.0))
-    bottom = np.isclose(st.x_ref[:, 1], 0.0)
-    V = 0.01 * h
-    st.fix(bottom)
-    st.fix(~bottom, velocity=(V, 0.0))
+    h, V = PAIR_H, PAIR_V
+    st = _pair()
 
     def split_all(s) -> bool:
         if s.interface_intact[s.interface_splittable].any():
