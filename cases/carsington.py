@@ -6,30 +6,24 @@ Objective
     node A against fill level, yielded zone, stresses), strength-reduction factors of safety, then
     the discrete post-failure run to rest, beside the thesis's, published and observed values.
 Problem
-    Ch. 725 rebuilt from the thesis (``meshes/carsington.py``, each dimension sourced or assumed;
-    docs/carsington.md): a 36 m embankment on mudstone, upstream 1:3 with a toe berm, downstream
-    1:2.5, a rolled clay core with an upstream boot in a 3 m key trench, Zone I and II shoulders,
-    1.5 m of yellow clay atop the foundation upstream of the boot, 36 m long (the thesis's 18
-    elements). Undrained total stress (pore pressures inside the strengths), Table 6.3, psi = 0,
-    no tension in the fill and the clays (thesis 6.3.1.1); the berm has Zone II's properties.
-    Beyond the thesis (``softening``): the strengths fall to residual over a slip ``u_r``
-    (``softening_displacement``): the fill to c = 0 and Table 6.2's phi_r, the phi = 0 clays to
-    c_u tan(phi_r') / tan(phi') of Table 6.2 (the drained residual-to-peak ratio, assumed to
-    hold undrained); no expert option of the discrete phase is then needed.
+    Ch. 725 rebuilt from the thesis (``meshes/carsington.py``; sources and assumptions in
+    docs/carsington.md): a 36 m embankment on mudstone, a clay core with an upstream boot in a
+    3 m key trench, Zone I and II shoulders, an upstream berm (as Zone II), 1.5 m of yellow
+    clay upstream of the boot. Undrained total stress, Table 6.3, psi = 0, no tension in the
+    fill and the clays (thesis 6.3.1.1). Beyond the thesis (``softening``): the strengths fall
+    to residual over a slip ``softening_displacement``, the fill to c = 0 and Table 6.2's
+    phi_r, the phi = 0 clays to c_u tan(phi_r') / tan(phi') (the drained ratio, assumed to
+    hold undrained); the discrete phase then needs no expert option.
 Set-up
     Base fixed, sides on vertical rollers. Stage 1: gravity on the foundation (key trench open),
-    displacements zeroed. Stages 2-6: five lifts (tops 175.6 with the berm, 182, 190, 198, 200.5
-    m OD: ``lift_tops``), each placed stress-free, its weight ramped in (``build_in_lifts``:
-    increments halved when Newton fails), displacements from placement. A lift whose full weight
-    finds no equilibrium is the collapse: construction stops; the fill level carried is the last
-    complete lift's top, with the fraction carried of the collapsing lift's weight
-    (``last_lift_parts``: the last lift in parts, for the level of a collapse in it). After each
-    complete lift: node A's horizontal displacement (``node_a_x``, ``node_a_y``; also where the
-    thesis's words allow, ``Section.node_a_candidates``) and F (c, tan(phi) divided by F to no
-    equilibrium, from that lift's state, restored after). Discrete phase: from the end of
-    construction (design height) or after a collapse the last complete lift with the collapsing
-    one placed whole; the yielded cells + ``region_layers`` may split, the foundation is held;
-    run to rest.
+    displacements zeroed. Stages 2-6: five lifts (``lift_tops``) placed stress-free, their
+    weight ramped in (``build_in_lifts``), to the crest or to the first lift whose full weight
+    finds no equilibrium (the collapse: the fill level carried is the last complete lift's top;
+    ``last_lift_parts`` places the last lift in parts). After each complete lift: node A's
+    horizontal displacement (``node_a_x``, ``node_a_y``; also ``Section.node_a_candidates``) and
+    F by strength reduction. Discrete phase: the end of construction, or the last complete lift
+    with the collapsing one placed whole, handed over (the yielded cells + ``region_layers`` may
+    split, the foundation held) and run to rest.
 Verification (asserted in ``tests/test_carsington.py``)
     * every lift but a collapsing last one reaches equilibrium (Newton to 1e-8);
     * no stress in fill not yet placed, after every lift (exactly zero);
@@ -49,9 +43,8 @@ References
 from __future__ import annotations
 
 import functools
-import math
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from pathlib import Path
 from types import ModuleType
 from typing import Any
@@ -61,10 +54,9 @@ import numpy as np
 from hybrid import references
 from hybrid.case import uses_defaults
 from hybrid.continuum import NewtonOptions, PlasticSolver
-from hybrid.continuum.analysis import at_rest_checks
 from hybrid.continuum.limit_equilibrium import bishop_circle
 from hybrid.continuum.probe import evaluate
-from hybrid.continuum.staging import Construction, build_in_lifts, lift_materials, split_into_lifts
+from hybrid.continuum.staging import build_in_lifts, ground_stage, lift_materials, split_into_lifts
 from hybrid.continuum.strength_reduction import StrengthSearch
 from hybrid.discrete.integrate import stable_time_step
 from hybrid.discrete.measures import SlipSurface, SlopeMarks, mean_displacement
@@ -76,7 +68,7 @@ from hybrid.handover import Region, element_groups, from_construction
 from hybrid.io import CaseSummary, Check, write_continuum_xdmf
 from hybrid.materials import Bond, Contact, Material, Strength
 from hybrid.model import Fixed, Model, Roller
-from hybrid.parameters import CELLS, CaseParameters, param
+from hybrid.parameters import CELLS, param
 
 MESHES = Path(__file__).resolve().parent.parent / "meshes"
 EMBANKMENT = ("core", "zone_I", "zone_II", "berm")  # built in lifts
@@ -85,14 +77,13 @@ SECTION = ("yellow_clay_thickness", "yellow_clay_length", "boot_length", "lifts"
            "last_lift_parts")
 
 # the fields that make the modelled section the thesis's (published figures apply with them)
-PUBLISHED_PROBLEM = (*SECTION, "no_tension", "foundation_E", "foundation_nu", "foundation_gamma",
-                     "yellow_clay_cu", "yellow_clay_E", "yellow_clay_nu", "yellow_clay_gamma",
-                     "core_cu", "core_E", "core_nu", "core_gamma", "fill_c", "fill_phi",
-                     "fill_E", "fill_nu", "fill_gamma", "strength_factor", "softening")
+PUBLISHED_PROBLEM = (*SECTION, *(f.name for f in fields(references.CarsingtonTable63)),
+                     "no_tension", "strength_factor", "softening")
 
 
 @dataclass
-class Parameters(CaseParameters):
+class Parameters(references.CarsingtonTable62, references.CarsingtonTable63):
+    # the materials: the fields of Table 6.3 and 6.2 (foundation_E, core_cu, fill_phi, ...)
     size: float = param(6.0, gt=0)  # element size in the embankment [m] (12: coarse)
     layer_size: float | None = param(None, gt=0)  # in the yellow clay [m] (None: its thickness)
     cells: str = param("quadrilateral", choices=CELLS)  # or "triangle"
@@ -102,27 +93,9 @@ class Parameters(CaseParameters):
     yellow_clay_thickness: float = param(1.5, gt=0)  # [m] (published 1-2 m)
     yellow_clay_length: float | None = param(36.0, gt=0)  # from the boot [m] (None: toe + 30 m)
     boot_length: float = param(35.0, gt=0)  # upstream end of the boot from the axis [m] (assumed)
-    foundation_E: float = 125_000.0  # mudstone, elastic [kPa] (Table 6.3)
-    foundation_nu: float = 0.35  # [-]
-    foundation_gamma: float = 20.0  # [kN/m3]
-    yellow_clay_cu: float = 15.0  # undrained strength [kPa] (Table 6.3, phi = 0)
-    yellow_clay_E: float = 3_000.0  # [kPa]
-    yellow_clay_nu: float = 0.42  # [-]
-    yellow_clay_gamma: float = 19.5  # [kN/m3]
-    core_cu: float = 52.0  # [kPa] (Table 6.3, phi = 0)
-    core_E: float = 2_500.0  # [kPa]
-    core_nu: float = 0.43  # [-]
-    core_gamma: float = 18.5  # [kN/m3]
-    fill_c: float = 13.5  # Zone I and Zone II cohesion [kPa] (Table 6.3)
-    fill_phi: float = 24.0  # [deg]
-    fill_E: float = 60_000.0  # [kPa]
-    fill_nu: float = 0.38  # [-]
-    fill_gamma: float = 21.0  # [kN/m3]
     no_tension: bool = True  # tension cut-off 0 in the fill and the clays (thesis 6.3.1.1)
     softening: bool = False  # strengths fall to residual (beyond the thesis: its Problem)
     softening_displacement: float = param(0.5, gt=0)  # u_r: slip from peak to residual [m]
-    yellow_clay_peak_phi: float = 20.0  # drained phi' [deg] (Table 6.2; softening's ratio)
-    core_peak_phi: float = 21.0  # drained phi' [deg] (Table 6.2; softening's ratio)
     node_a_x: float = 0.0  # the thesis's node A [m from the axis] (assumed: the core's axis,
     node_a_y: float = 166.5  # [m OD] at the top of the boot)
     strength_factor: float = param(1.0, gt=0)  # c, tan(phi) / this while building (< 1: stronger)
@@ -140,9 +113,6 @@ class Parameters(CaseParameters):
     plastic_strain_cap: float | None = param(2.0, gt=0)  # flow limit [-] (None; no softening)
     mass_damping: float = param(0.5, ge=0)  # mass damping alpha [1/s]
     contact_damping: float = param(0.2, ge=0, le=1)  # normal contact damping ratio [-]
-    yellow_clay_residual_phi: float = 12.0  # contact friction [deg] (Table 6.2)
-    core_residual_phi: float = 13.0  # [deg] (Table 6.2)
-    fill_residual_phi: float = 14.5  # Zone I, Zone II, berm [deg] (Table 6.2, Zone II)
     slip_min: float = param(0.1, gt=0)  # slip that puts a failed interface on the slip surface [m]
     rest: float = param(1e-4, gt=0)  # kinetic / strain energy ratio taken as rest
     frames: int = param(30, ge=0)  # animation frames of the discrete phase (0: none)
@@ -152,19 +122,15 @@ class Parameters(CaseParameters):
 def materials(p: Parameters) -> dict[str, Material]:
     """Table 6.3 as in the module's Problem (the berm as Zone II: the thesis's mesh has no berm).
 
-    Discrete phase: bonds as strong as the material, with a tension cut-off of c for the
-    phi = 0 clays (assumed); separated elements slide at the residual angles of Table 6.2
-    (yellow clay 12, core 13, Zone II 14.5 deg; Zone I and the berm as Zone II: assumed).
-    With ``softening`` the residual strengths of the module's Problem."""
+    Discrete phase: bonds as strong as the material, a tension cut-off of c for the phi = 0
+    clays (assumed); separated elements slide at Table 6.2's residual angles (Zone I and the
+    berm at Zone II's: assumed). With ``softening`` the residual strengths of the Problem."""
     def contact(phi: float) -> Contact:
         return Contact(phi=phi, damping=p.contact_damping)
 
     def residual(c: float, phi: float) -> dict[str, Any]:
         return ({"residual": Strength(cohesion=c, phi=phi),
                  "softening_displacement": p.softening_displacement} if p.softening else {})
-
-    def ratio(phi_r: float, phi_peak: float) -> float:
-        return math.tan(math.radians(phi_r)) / math.tan(math.radians(phi_peak))
 
     cut = 0.0 if p.no_tension else None
     fill = {"cohesion": p.fill_c, "phi": p.fill_phi, "E": p.fill_E, "nu": p.fill_nu,
@@ -180,7 +146,8 @@ def materials(p: Parameters) -> dict[str, Material]:
                                unit_weight=p.foundation_gamma, contact=contact(p.fill_phi)),
         **{key: Material(name=name, E=E, nu=nu, unit_weight=gamma, cohesion=cu,
                          tensile_strength=cut, bond=Bond(tensile_strength=cu),
-                         contact=contact(phi_r), **residual(cu * ratio(phi_r, phi_peak), 0.0))
+                         contact=contact(phi_r),
+                         **residual(cu * references.friction_ratio(phi_r, phi_peak), 0.0))
            for key, (name, E, nu, gamma, cu, phi_r, phi_peak) in clay.items()},
         **{key: Material(name=name, **fill)
            for key, name in (("zone_I", "Zone I"), ("zone_II", "Zone II"), ("berm", "berm"))},
@@ -193,15 +160,11 @@ def section_module() -> ModuleType:
     return load_mesh_script(MESHES / "carsington.py")
 
 
-def section(p: Parameters) -> Any:
-    """The modelled section's dimensions (``Section`` of ``meshes/carsington.py``)."""
-    return section_module().Section(**p.pick(SECTION))
-
-
-def continuum_phase(p: Parameters, out: Path) -> tuple[PlasticSolver, Construction, CaseSummary]:
-    """Gravity, the lifts to the crest (or collapse), node A and F after each complete lift, the
-    continuum outputs in ``out``; returns the solver, the lift-by-lift record and the summary."""
-    start, g = time.perf_counter(), section(p)
+def main(out: str | Path = "results/carsington", **overrides) -> CaseSummary:
+    """Carsington Dam Ch. 725: staged construction, factor of safety, post-failure run."""
+    p = Parameters(**overrides)
+    out, start = Path(out), time.perf_counter()
+    g = section_module().Section(**p.pick(SECTION))  # the modelled section's dimensions
     base_mesh = build_mesh(section_module().build, size=p.size, layer_size=p.layer_size,
                            cells=p.cells, **p.pick(SECTION))
     tops = section_module().lift_tops(g.crest_level, g.berm_top, p.lifts, p.last_lift_parts)
@@ -213,13 +176,10 @@ def continuum_phase(p: Parameters, out: Path) -> tuple[PlasticSolver, Constructi
     solver.set_strength_factor(p.strength_factor)
 
     # stage 1: gravity on the foundation (key trench open), then displacements zeroed
-    solver.set_active(list(GROUND))
-    solver.apply_gravity(steps=p.gravity_steps).require()
-    gravity_iterations = solver.iterations_total
-    far = at_rest_checks(solver.state(), g.far_field_point(), ground_level=g.foundation_level,
-                         unit_weight=p.foundation_gamma, nu=p.foundation_nu,
-                         where="below the level ground downstream")
-    solver.reset_displacement()
+    gravity_iterations, far = ground_stage(
+        solver, GROUND, g.far_field_point(), ground_level=g.foundation_level,
+        unit_weight=p.foundation_gamma, nu=p.foundation_nu, steps=p.gravity_steps,
+        where="below the level ground downstream")
 
     # stages 2-6: the lifts; node A and F after each complete lift
     candidates = g.node_a_candidates()
@@ -238,8 +198,7 @@ def continuum_phase(p: Parameters, out: Path) -> tuple[PlasticSolver, Constructi
     state = built.last_equilibrium(solver, mesh)  # figures and their numbers
     construction_time = time.perf_counter() - start - built.safety_wall_time
     carried, history, safety = built.level_carried, built.history("node_A_dx_mm"), built.safety
-    at_level = {f"{z:g}": next((dx for top, dx in history if top == z), None)
-                for z in references.CARSINGTON_REPORT_LEVELS}
+    at_level = built.at_levels("node_A_dx_mm", references.CARSINGTON_REPORT_LEVELS)
     circle = None if safety is None else bishop_circle(model, built.safety_active)
 
     # figures: the end of construction (or the last equilibrium), node A against the fill level
@@ -269,8 +228,7 @@ def continuum_phase(p: Parameters, out: Path) -> tuple[PlasticSolver, Constructi
         "core_displacement_mm": {
             **at_level, "node_A_m": node_a[0].tolist(), "by_fill_level": history,
             "sign": "+ downstream", "candidates": {
-                name: {"point_m": list(point), "by_fill_level": [
-                    (z, dx[name]) for z, dx in built.history("core_dx_mm")]}
+                name: {"point_m": list(point), "by_fill_level": built.history("core_dx_mm", name)}
                 for name, point in candidates.items()}},
         "figures": [str(f) for f in paths]},
         checks={**far.checks, **built.checks()})
@@ -281,40 +239,24 @@ def continuum_phase(p: Parameters, out: Path) -> tuple[PlasticSolver, Constructi
     for band, (level, dx) in zip(references.CARSINGTON_CORE_DISPLACEMENT, at_level.items()):
         if dx is not None:
             checks[f"core_displacement_{level}_vs_thesis"] = Check.published(
-                abs(dx), 0.5 * (band.low + band.high), None, "mm", band.label,
-                applies=published)
+                abs(dx), band.middle, None, "mm", band.label, applies=published)
     if safety is not None and circle is not None:
-        summary["factor_of_safety"] = built.safety_report(
-            measures={"strength_factor_of_construction": p.strength_factor}, groups=clays,
-            circle=circle)
+        summary["factor_of_safety"] = built.safety_report(groups=clays, circle=circle, measures={
+            "strength_factor_of_construction": p.strength_factor})
         checks.update(built.safety_checks(circle))
         for key, (value, source) in references.CARSINGTON_FOS.items() if built.completed else ():
             checks[f"fos_vs_{key}"] = Check.published(safety.factor, value, None, "-", source,
                                                       applies=published)
     summary["continuum_wall_time_s"] = time.perf_counter() - start
-    return solver, built, summary
 
-
-def main(out: str | Path = "results/carsington", **overrides) -> CaseSummary:
-    """Carsington Dam Ch. 725: staged construction, factor of safety, post-failure run."""
-    p = Parameters(**overrides)
-    out = Path(out)
-    solver, built, summary = continuum_phase(p, out)
-    if p.discrete_time > 0.0:
-        summary.update(discrete_phase(solver, built, summary["checks"], p, out))
-    summary.write(out / "summary.json", solver.model.mesh.comm)
-    return summary
-
-
-def discrete_phase(solver: PlasticSolver, built: Construction, continuum_checks: dict[str, Check],
-                   p: Parameters, out: Path) -> dict[str, Any]:
-    """Handover and the post-failure run to rest (or ``discrete_time``), as in the module's
-    Set-up; the foundation (elastic, "strong base") is held."""
+    # discrete phase (``discrete_time`` > 0): handover, the foundation ("strong base") held
     start = time.perf_counter()
-    hand = from_construction(solver, built, region=Region(layers=p.region_layers))
-    if hand.discrete is None:  # MPI ranks other than 0
-        return {}
-    disc, g, group = hand.discrete, section(p), element_groups(hand)  # lifts merged
+    hand = (from_construction(solver, built, region=Region(layers=p.region_layers))
+            if p.discrete_time > 0.0 else None)
+    if hand is None or hand.discrete is None:  # continuum only, or MPI ranks other than 0
+        summary.write(out / "summary.json", solver.model.mesh.comm)
+        return summary
+    disc, group = hand.discrete, element_groups(hand)  # lifts merged
     disc.fix(np.unique(disc.element_nodes[group == "foundation"]))
     zone = g.zones(group, disc.element_centroids())
     slope = SlopeMarks.pick(disc, zone["embankment"], crest_x=g.crest_range)
@@ -329,31 +271,27 @@ def discrete_phase(solver: PlasticSolver, built: Construction, continuum_checks:
     surface = SlipSurface.of(disc, p.slip_min,
                              {"yellow_clay": group == "yellow_clay", "boot": zone["boot"]})
     paths = [*run.figures, run.final_figure(out / "discrete_final.png", surface.lines(disc))]
-    published, moved = uses_defaults(p, PUBLISHED_PROBLEM), slope.movement(disc)
-    shoulder_dx = mean_displacement(disc, zone["upstream_shoulder"])[0]
-    checks = {
+    moved, shoulder_dx = slope.movement(disc), mean_displacement(disc, zone["upstream_shoulder"])[0]
+    checks.update({
         **surface.checks({"yellow_clay": "a yellow-clay element",
                           "boot": "an element of the core's boot"}),
         "shoulder_moves_upstream": Check(float(shoulder_dx < 0.0), 1.0, 0.0, "-",
                                          "mean x-displacement of the upstream shoulder < 0"),
-        **run.checks()}
-    # the measures of the observed movements (references.CARSINGTON_POST_FAILURE)
+        **run.checks()})
     observed = {"upstream_toe_movement": -moved.toe_dx, "crest_drop": moved.crest_drop}
     for key, (value, source) in references.CARSINGTON_POST_FAILURE.items():  # final only
         checks[key] = Check.published(observed[key], value, None, "m", source,
                                       applies=published and run.at_rest)
-    return {
-        "handover": hand.report,
-        "discrete": {
-            "start": "last complete lift + collapsing lift placed at once"
-                     if built.before_collapse is not None
-                     else "end of construction (design height)",
-            **run.report(), "phase_wall_time_s": time.perf_counter() - start,
-            **surface.summary(), "upstream_shoulder_mean_dx_m": shoulder_dx,
-            "upstream_toe_dx_m": moved.toe_dx, "crest_drop_m": moved.crest_drop,
-            "toe_runout_m": -moved.toe_dx, "max_upstream_movement_m": moved.run_out,
-            "figures": [str(f) for f in paths]},
-        "checks": {**continuum_checks, **checks}}
+    summary.update(handover=hand.report, discrete={
+        "start": "last complete lift + collapsing lift placed at once"
+                 if built.before_collapse is not None else "end of construction (design height)",
+        **run.report(), "phase_wall_time_s": time.perf_counter() - start,
+        **surface.summary(), "upstream_shoulder_mean_dx_m": shoulder_dx,
+        "upstream_toe_dx_m": moved.toe_dx, "crest_drop_m": moved.crest_drop,
+        "toe_runout_m": -moved.toe_dx, "max_upstream_movement_m": moved.run_out,
+        "figures": [str(f) for f in paths]})
+    summary.write(out / "summary.json", solver.model.mesh.comm)
+    return summary
 
 
 if __name__ == "__main__":

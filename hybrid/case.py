@@ -108,17 +108,30 @@ def parameter_notes(parameters: type) -> dict[str, str]:
     """The comment after each field of ``parameters`` in its source (unit and meaning).
 
     A case documents a field on its line, ``cohesion: float = 69.0  # c [kPa]``, continued on
-    comment-only lines indented past ``#`` (as a wrapped comment is); a field without one (or
-    a class whose source is not available) maps to "".
+    comment-only lines indented past ``#`` (as a wrapped comment is). A field inherited from a
+    base record (e.g. a published table of :mod:`hybrid.references`) has the comment written
+    in the base's source, unless the class redeclares it; a field without one (or a class
+    whose source is not available) maps to "".
     """
+    names = [f.name for f in dataclasses.fields(parameters)]
+    notes = dict.fromkeys(names, "")
+    for cls in reversed(parameters.__mro__):  # bases first: a redeclared field's own note wins
+        own = set(names) & set(vars(cls).get("__annotations__", {}))
+        notes.update(_source_notes(cls, own))
+    return notes
+
+
+def _source_notes(cls: type, names: set[str]) -> dict[str, str]:
+    """The comments of the fields ``names`` declared in ``cls``'s own source."""
     import inspect
     import io
     import tokenize
 
-    names = {f.name for f in dataclasses.fields(parameters)}
     notes = dict.fromkeys(names, "")
+    if not names:
+        return notes
     try:
-        source = inspect.getsource(parameters)
+        source = inspect.getsource(cls)
     except (OSError, TypeError):
         return notes
     first: dict[int, str] = {}  # line -> first name on it

@@ -30,9 +30,12 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from dataclasses import dataclass
 from typing import Any, NamedTuple
 
 import numpy as np
+
+from hybrid.parameters import CaseParameters
 
 __all__ = [
     "BEARING_METHODS",
@@ -53,6 +56,7 @@ __all__ = [
     "tension_crack_depth",
     "k0_elastic",
     "k0_jaky",
+    "friction_ratio",
     "strip_load_angles",
     "flamant_strip_stress",
     "flamant_centreline",
@@ -76,6 +80,8 @@ __all__ = [
     "CollapseExperiment",
     "bui2008_collapse",
     "Band",
+    "CarsingtonTable63",
+    "CarsingtonTable62",
     "CARSINGTON_FAILURE_FILL_LEVEL",
     "CARSINGTON_FOS",
     "CARSINGTON_CORE_DISPLACEMENT",
@@ -304,6 +310,18 @@ def k0_elastic(nu: float) -> float:
 def k0_jaky(phi_deg: float) -> float:
     """Jaky's (1944) at-rest coefficient of normally consolidated soil: K0 = 1 - sin phi."""
     return 1.0 - math.sin(_phi_rad(phi_deg))
+
+
+def friction_ratio(phi_residual_deg: float, phi_peak_deg: float) -> float:
+    """Residual-to-peak shear strength ratio at one normal stress: tan(phi_r) / tan(phi_p).
+
+    E.g. to carry a clay's drained loss of strength over to its undrained strength
+    (c_u,r = c_u x this ratio), an assumption where only drained angles are published.
+    """
+    peak = math.tan(_phi_rad(phi_peak_deg, "phi_peak_deg"))
+    if peak == 0.0:
+        raise ValueError("phi_peak_deg = 0: the ratio needs a peak friction angle above zero")
+    return math.tan(_phi_rad(phi_residual_deg, "phi_residual_deg")) / peak
 
 
 # --- elastic strip load (Flamant integrated) ---------------------------------------------------
@@ -964,6 +982,53 @@ class Band(NamedTuple):
     high: float
     level_low: float
     level_high: float
+
+    @property
+    def middle(self) -> float:
+        """The middle of the published range, (low + high) / 2: the value a check compares."""
+        return 0.5 * (self.low + self.high)
+
+
+@dataclass
+class CarsingtonTable63(CaseParameters):
+    """The thesis's Table 6.3 at Ch. 725 (undrained total stress), as case parameters.
+
+    A case derives its ``Parameters`` from it, so each value is overridable (``--set``) under
+    its name here; a run with all of them at these defaults uses the published section's
+    materials. The mudstone is elastic, the clays phi = 0; Zone I and Zone II share "fill".
+    """
+
+    foundation_E: float = 125_000.0  # mudstone, elastic [kPa] (Table 6.3)
+    foundation_nu: float = 0.35  # [-]
+    foundation_gamma: float = 20.0  # [kN/m3]
+    yellow_clay_cu: float = 15.0  # undrained strength [kPa] (Table 6.3, phi = 0)
+    yellow_clay_E: float = 3_000.0  # [kPa]
+    yellow_clay_nu: float = 0.42  # [-]
+    yellow_clay_gamma: float = 19.5  # [kN/m3]
+    core_cu: float = 52.0  # [kPa] (Table 6.3, phi = 0)
+    core_E: float = 2_500.0  # [kPa]
+    core_nu: float = 0.43  # [-]
+    core_gamma: float = 18.5  # [kN/m3]
+    fill_c: float = 13.5  # Zone I and Zone II cohesion [kPa] (Table 6.3)
+    fill_phi: float = 24.0  # [deg]
+    fill_E: float = 60_000.0  # [kPa]
+    fill_nu: float = 0.38  # [-]
+    fill_gamma: float = 21.0  # [kN/m3]
+
+
+@dataclass
+class CarsingtonTable62(CaseParameters):
+    """The thesis's Table 6.2 drained angles at Ch. 725, as case parameters.
+
+    The peak angles give the residual-to-peak ratio of the clays' softening; the residual
+    angles are the friction of separated elements (the fill's: Zone II's).
+    """
+
+    yellow_clay_peak_phi: float = 20.0  # drained phi' [deg] (Table 6.2; softening's ratio)
+    core_peak_phi: float = 21.0  # drained phi' [deg] (Table 6.2; softening's ratio)
+    yellow_clay_residual_phi: float = 12.0  # contact friction [deg] (Table 6.2)
+    core_residual_phi: float = 13.0  # [deg] (Table 6.2)
+    fill_residual_phi: float = 14.5  # Zone I, Zone II, berm [deg] (Table 6.2, Zone II)
 
 
 #: fill level when the upstream slope slipped [m OD] (Skempton 1985)

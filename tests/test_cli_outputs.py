@@ -81,3 +81,18 @@ def test_a_wrapped_parameter_comment_is_read_whole(tmp_path):
         "    E: float = 1.0  # [kPa]\n\n\ndef main():\n    pass\n")
     notes = parameter_notes(load_case(script).Parameters)
     assert notes == {"size": "element size [m] (6: ~1 000 cells; 12: coarse)", "E": "[kPa]"}
+
+
+def test_inherited_parameter_comments_are_read_from_the_base(tmp_path):
+    """A field inherited from a base record (e.g. a published table) has its note from the
+    base's source; a field the derived class redeclares has its own note."""
+    script = tmp_path / "derived.py"
+    script.write_text(
+        "import dataclasses\n\n\n@dataclasses.dataclass\nclass Table:\n"
+        "    E: float = 1.0  # [kPa] (Table 1)\n"
+        "    nu: float = 0.3  # [-] (Table 1)\n\n\n"
+        "@dataclasses.dataclass\nclass Parameters(Table):\n"
+        "    nu: float = 0.25  # [-] (assumed)\n"
+        "    size: float = 6.0  # element size [m]\n\n\ndef main():\n    pass\n")
+    notes = parameter_notes(load_case(script).Parameters)
+    assert notes == {"E": "[kPa] (Table 1)", "nu": "[-] (assumed)", "size": "element size [m]"}

@@ -322,3 +322,35 @@ def test_slip_circle_as_dict():
     circle = ref.SlipCircle(1.25, (3.0, 12.0), 10.0, -4.0, 9.0)
     assert circle.as_dict() == {"F": 1.25, "centre_m": [3.0, 12.0], "radius_m": 10.0,
                                 "entry_x_m": -4.0, "exit_x_m": 9.0}
+
+
+def test_friction_ratio():
+    """tan(phi_r) / tan(phi_p): 1 at equal angles, 1/3 for tan 30 against tan 60; a peak of
+    zero or an angle outside [0, 90) deg is refused."""
+    assert ref.friction_ratio(25.0, 25.0) == pytest.approx(1.0, rel=1e-15)
+    assert ref.friction_ratio(30.0, 60.0) == pytest.approx(1 / 3, rel=1e-14)
+    assert ref.friction_ratio(0.0, 20.0) == 0.0
+    with pytest.raises(ValueError, match="phi_peak_deg"):
+        ref.friction_ratio(10.0, 0.0)
+    with pytest.raises(ValueError, match="phi_residual_deg"):
+        ref.friction_ratio(-5.0, 20.0)
+
+
+def test_band_middle():
+    """The middle of a published range is the value its checks compare with."""
+    band = ref.Band("a range", 400.0, 450.0, 200.5, 200.5)
+    assert band.middle == 425.0
+    assert [b.middle for b in ref.CARSINGTON_CORE_DISPLACEMENT[:2]] == [150.0, 425.0]
+
+
+def test_carsington_tables_as_parameters():
+    """Tables 6.3 and 6.2 as checked case parameters: the published values by default, an
+    override checked as any case parameter's (a number, finite)."""
+    from hybrid.parameters import ParameterError
+
+    t63, t62 = ref.CarsingtonTable63(), ref.CarsingtonTable62()
+    assert (t63.core_cu, t63.yellow_clay_cu, t63.fill_c, t63.fill_phi) == (52.0, 15.0, 13.5, 24.0)
+    assert (t62.yellow_clay_residual_phi, t62.core_residual_phi) == (12.0, 13.0)
+    assert ref.CarsingtonTable63(core_cu=40.0).core_cu == 40.0
+    with pytest.raises(ParameterError, match="core_cu"):
+        ref.CarsingtonTable63(core_cu=math.inf)

@@ -279,3 +279,26 @@ def test_safety_report_with_circle_and_groups(column):
     check = with_fos.safety_checks(circle)["fos_vs_bishop"]
     assert (check.computed, check.reference, check.bar) == (1.5, 1.4, None)
     assert with_fos.safety_checks(None) == {} and built.safety_checks(circle) == {}
+
+
+def test_ground_stage_and_levels(column):
+    """The first stage on a fresh solver of the column: only the ground active, at rest under
+    its own weight (the checks pass), displacements zeroed, stresses kept; a construction's
+    values at fixed levels (None where no complete lift has that top) and one item of a
+    mapping recorded per lift."""
+    from hybrid.continuum.staging import ground_stage
+
+    _, mesh, solver, built = column
+    fresh = PlasticSolver(solver.model, degree=2)
+    iterations, far = ground_stage(fresh, ["lift1"], (1.0, 1.0), ground_level=2.0,
+                                   unit_weight=GAMMA, nu=NU, steps=2)
+    assert iterations == fresh.iterations_total > 0
+    assert fresh.active[mesh.cells("lift1")].all() and not fresh.active[mesh.cells("lift2:1")].any()
+    assert all(c.passed for c in far.checks.values())
+    assert far.checks["far_field_sigma_v"].reference == pytest.approx(-GAMMA)
+    assert not fresh.u.x.array.any()
+    assert far.stress[1] == pytest.approx(fresh.state().stress_at(np.array([[1.0, 1.0]]))[0][1])
+    assert built.at_levels("lift", [3.0, 3.5, 4.0]) == {"3": 1, "3.5": None, "4": 2}
+    marked = dataclasses.replace(built, stages=[{**st, "at": {"a": st["lift"], "b": 0}}
+                                                for st in built.stages])
+    assert marked.history("at", "a") == [(3.0, 1), (4.0, 2)] == marked.history("lift")

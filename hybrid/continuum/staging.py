@@ -21,7 +21,7 @@ import numpy as np
 from dolfinx import fem
 from mpi4py import MPI
 
-from hybrid.continuum.analysis import largest_nodal_norm
+from hybrid.continuum.analysis import AtRest, at_rest_checks, largest_nodal_norm
 from hybrid.continuum.fields import strain
 from hybrid.continuum.plastic import PlasticSolver
 from hybrid.continuum.state import ContinuumState
@@ -31,7 +31,7 @@ from hybrid.io import Check
 from hybrid.references import SlipCircle
 
 __all__ = ["split_into_lifts", "lift_groups", "lift_materials", "PlacementStrain",
-           "Construction", "build_in_lifts"]
+           "Construction", "ground_stage", "build_in_lifts"]
 
 _STRIDE = 100  # tag of lift k of a group tagged t: _STRIDE * t + k
 T = TypeVar("T")
@@ -160,12 +160,24 @@ class Construction:
         return {"lift": last["lift"], f"top_{self.unit}": last[f"top_{self.unit}"],
                 "weight_carried": last["weight_placed"]}
 
-    def history(self, key: str) -> list[tuple[float, Any]]:
+    def history(self, key: str, item: str | None = None) -> list[tuple[float, Any]]:
         """(top of the lift, its record's ``key``) of every complete lift.
 
-        E.g. a value recorded by the ``monitor`` of :func:`build_in_lifts`.
+        E.g. a value recorded by the ``monitor`` of :func:`build_in_lifts`; with ``item``,
+        the entry ``item`` of a mapping recorded under ``key`` (one of several points).
         """
-        return [(st[f"top_{self.unit}"], st[key]) for st in self.complete]
+        return [(st[f"top_{self.unit}"], st[key] if item is None else st[key][item])
+                for st in self.complete]
+
+    def at_levels(self, key: str, levels: Sequence[float]) -> dict[str, Any]:
+        """The record's ``key`` of the complete lift topped at each of ``levels``.
+
+        Keyed by the level written with ``:g`` (e.g. "198"), None where no complete lift has
+        that top (e.g. above a collapse): the values a publication gives at fixed levels.
+        """
+        history = self.history(key)
+        return {f"{z:g}": next((value for top, value in history if top == z), None)
+                for z in levels}
 
     def checks(self) -> dict[str, Check]:
         """The construction's own check: no stress in the fill not yet placed.
@@ -243,6 +255,27 @@ class Construction:
             [mesh.cells(name) for name in lift_groups(mesh, self.stages[-1]["lift"])]))
         state.active = ~collapsing if state.active is None else state.active & ~collapsing
         return state
+
+
+def ground_stage(solver: PlasticSolver, groups: Sequence[str], point: Sequence[float], *,
+                 ground_level: float, unit_weight: float, nu: float, steps: int = 1,
+                 where: str = "below level ground") -> tuple[int, AtRest]:
+    """The first stage of a staged construction: the ground in place under its own weight.
+
+    Only ``groups`` active, gravity applied in ``steps`` increments (an error when Newton
+    finds no equilibrium), the far-field stress at ``point`` checked against level ground at
+    rest (:func:`~hybrid.continuum.analysis.at_rest_checks` with ``ground_level``,
+    ``unit_weight``, ``nu``, ``where``), then the displacements zeroed so that those of the
+    lifts count from the initial stress state (the stresses are kept). Returns the solver's
+    Newton iterations so far and the at-rest checks.
+    """
+    solver.set_active(list(groups))
+    solver.apply_gravity(steps=steps).require()
+    iterations = solver.iterations_total
+    far = at_rest_checks(solver.state(), point, ground_level=ground_level,
+                         unit_weight=unit_weight, nu=nu, where=where)
+    solver.reset_displacement()
+    return iterations, far
 
 
 def build_in_lifts(solver: PlasticSolver, mesh: MeshData, tops: Sequence[float],
