@@ -24,7 +24,7 @@ from hybrid.io import CaseSummary
 from hybrid.parameters import field_kind
 from hybrid.scripts import import_script
 
-__all__ = ["CaseError", "parse_overrides", "load_case", "run_case", "case_arguments",
+__all__ = ["CaseError", "parse_overrides", "find_case", "load_case", "run_case", "case_arguments",
            "uses_defaults", "describe", "parameter_notes"]
 
 
@@ -78,11 +78,26 @@ def parse_overrides(parameters: type, items: Sequence[str]) -> dict[str, Any]:
     return out
 
 
-def load_case(path: str | Path) -> ModuleType:
-    """Import a case script by path; it must define ``main`` and ``Parameters``."""
+def find_case(path: str | Path) -> Path:
+    """The case script at ``path``, or ``cases/<name>.py`` for a bare name (see load_case)."""
     path = Path(path)
-    if not path.is_file():
-        raise CaseError(f"case script '{path}' not found")
+    if path.is_file():
+        return path
+    if path.suffix == "" and path.parent == Path("."):
+        for folder in (Path("cases"), Path(__file__).resolve().parent.parent / "cases"):
+            if (folder / f"{path.name}.py").is_file():
+                return folder / f"{path.name}.py"
+    raise CaseError(f"case script '{path}' not found: give its path (cases/<name>.py) or the "
+                    "name of a script in cases/")
+
+
+def load_case(path: str | Path) -> ModuleType:
+    """Import a case script by path or by name; it must define ``main`` and ``Parameters``.
+
+    A bare name (``carsington``) is the script of that name in ``cases/`` of the current
+    folder or, failing that, of the repository this package runs from.
+    """
+    path = find_case(path)
     module = import_script(path, "hybrid_case")
     for name in ("main", "Parameters"):
         if not hasattr(module, name):

@@ -69,8 +69,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--version", action="version", version=f"hybrid {hybrid.__version__}")
     sub = parser.add_subparsers(dest="command", required=True)
     sub.add_parser("info", help="versions, threads, MPI, ffmpeg").set_defaults(func=_cmd_info)
-    run = sub.add_parser("run", help="run a case script: hybrid run cases/x.py --out DIR")
-    run.add_argument("case", help="path of the case script")
+    run = sub.add_parser("run", help="run a case script: hybrid run cases/x.py (or x) --out DIR")
+    run.add_argument("case", help="path of the case script, or the name of one in cases/")
     case_arguments(run)
     run.set_defaults(func=_cmd_run)
     bench: ModuleType | None

@@ -96,3 +96,16 @@ def test_inherited_parameter_comments_are_read_from_the_base(tmp_path):
         "    size: float = 6.0  # element size [m]\n\n\ndef main():\n    pass\n")
     notes = parameter_notes(load_case(script).Parameters)
     assert notes == {"E": "[kPa] (Table 1)", "nu": "[-] (assumed)", "size": "element size [m]"}
+
+
+def test_a_case_named_without_its_path(tmp_path):
+    """``hybrid run carsington`` finds cases/carsington.py, from any folder; a wrong name
+    says how to name a case."""
+    for cwd in (ROOT, tmp_path):
+        listed = subprocess.run([PYTHON, "-m", "hybrid", "run", "carsington", "--list"],
+                                cwd=cwd, capture_output=True, text=True, timeout=120)
+        assert listed.returncode == 0, listed.stderr
+        assert "core_cu" in listed.stdout
+    wrong = _hybrid("run", "no_such_case", "--list")
+    assert wrong.returncode == 2
+    assert "give its path (cases/<name>.py)" in wrong.stderr
