@@ -82,12 +82,15 @@ docs: setup
 	for run in "fine0.04 --set fine=0.04" "structured --set structured=true"; do set -- $$run; \
 	    $(PY) -m hybrid run cases/footing_failure.py --out $(DOCS_RUN)/h2_$$1 --overwrite \
 	    --set progress=false --set discrete=false $$2 $$3 || exit 1; done
-	# H3's mesh sensitivity (docs/hybrid.md)
+	# H3's mesh sensitivity (docs/hybrid.md): the structured mesh coarser and finer, gmsh's
+	# unstructured quadrilaterals at the default size
 	for size in 1.0 0.25; do $(PY) -m hybrid run cases/retaining_wall_collapse.py \
 	    --out $(DOCS_RUN)/h3_size$$size --overwrite --set progress=false --set size=$$size \
 	    || exit 1; done
+	$(PY) -m hybrid run cases/retaining_wall_collapse.py --out $(DOCS_RUN)/h3_unstructured \
+	    --overwrite --set progress=false --set structured=false
 	mkdir -p docs/summaries docs/figures/hybrid docs/figures/carsington
-	for c in h3_size1.0 h3_size0.25; do \
+	for c in h3_size1.0 h3_size0.25 h3_unstructured; do \
 	    cp $(DOCS_RUN)/$$c/summary.json docs/summaries/$$c.json; done
 	for c in h2_fine0.16 h2_fine0.12 h2_fine0.04 h2_structured; do \
 	    cp $(DOCS_RUN)/$$c/summary.json docs/summaries/$$c.json; done

@@ -11,7 +11,8 @@ Problem
     shear band leaves the heel at about 50 deg, between Coulomb and Roscoe). The backfill
     (``length`` = 2 H) stands on a 1 m ground layer (elastic, same E and gamma) that runs on
     ``front`` = 2 H in front of the wall, where the collapsed sand spreads. Rough base (the
-    backfill is tied to the ground), smooth wall, structured quadrilaterals of ``size``.
+    backfill is tied to the ground), smooth wall, quadrilaterals of ``size``: a structured grid,
+    or gmsh's unstructured quadrilaterals with ``structured`` false (``meshes/wall.py``).
 Set-up
     1. Continuum (dolfinx, Q2): gravity switched on with the wall held (at rest); active
        stage: the wall translated ``translation`` away from the backfill (thrust against
@@ -68,6 +69,7 @@ class Parameters(CaseParameters):
     length: float = param(20.0, gt=0)  # backfill modelled behind the wall [m]
     front: float = param(20.0, gt=0)  # ground in front of the wall [m]
     size: float = param(0.5, gt=0)  # element size [m]
+    structured: bool = True  # structured quadrilateral grid (false: gmsh's unstructured quads)
     unit_weight: float = 16.5  # gamma [kN/m3]
     phi: float = 30.0  # [deg]
     psi: float = 30.0  # dilation [deg] (associated, as Rankine's theory and C8)
@@ -93,7 +95,8 @@ def main(out: str | Path = "results/retaining_wall_collapse", **overrides) -> Ca
     p = Parameters(**overrides)
     out = Path(out)
     mesh = build_mesh(load_builder(MESHES / "wall.py"), height=p.height, length=p.length,
-                      front=p.front, size=p.size, cells="quadrilateral")
+                      front=p.front, size=p.size, cells="quadrilateral",
+                      structured=p.structured)
     sand = Material(name="sand", E=p.E, nu=p.nu, unit_weight=p.unit_weight, cohesion=0.0, phi=p.phi,
                     psi=p.psi, plastic=True, bond=Bond(tensile_strength=0.0),
                     contact=Contact(damping=p.contact_damping))

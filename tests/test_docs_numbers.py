@@ -34,6 +34,10 @@ def h3() -> dict[str, Any]:
     return _json("docs/summaries/h3.json")
 
 
+def h3_unstructured() -> dict[str, Any]:
+    return _json("docs/summaries/h3_unstructured.json")
+
+
 def d10() -> dict[str, Any]:
     return _json("docs/summaries/d10.json")
 
@@ -245,11 +249,22 @@ QUOTES: list[Quote] = [
     ("docs/hybrid.md", "| {} m | {} | {} | {} |\n| 0.5 m (default)",
      lambda: _h3_row("h3_size1.0")),
     ("docs/hybrid.md", "| {} m (default) | {} | {} | {} |", lambda: _h3_row("h3")),
-    ("docs/hybrid.md", "| {} m | {} | {} | {} |\n\nFrom 0.5", lambda: _h3_row("h3_size0.25")),
+    ("docs/hybrid.md", "| {} m | {} | {} | {} |\n| unstructured",
+     lambda: _h3_row("h3_size0.25")),
+    ("docs/hybrid.md", "| unstructured quads, {} m | {} | {} | {} |\n\nFrom 0.5",
+     lambda: _h3_row("h3_unstructured")),
     ("docs/hybrid.md", "From 0.5 to 0.25 m the wedge moves by {} deg and the run-out by {} %, "
      "within 5 deg and 10 %", lambda: _h3_change("h3", "h3_size0.25")),
     ("docs/hybrid.md", "from 1.0 to 0.5 m by\n{} deg and {} %.",
      lambda: _h3_change("h3_size1.0", "h3")),
+    ("docs/hybrid.md", "From the structured to the unstructured 0.5 m mesh the wedge moves by\n"
+     "{} deg, within 5 deg, but the run-out by {} %, beyond 10 %",
+     lambda: _h3_change("h3", "h3_unstructured")),
+    ("docs/hybrid.md", "(the back of the failed zone at rest lies at {} deg against {} deg),\n"
+     "less sand fails and the debris comes to rest sooner ({} s against {} s)",
+     lambda: [h3_unstructured()["discrete"]["failed_zone_back_at_rest"]["angle_deg"],
+              h3()["discrete"]["failed_zone_back_at_rest"]["angle_deg"],
+              h3_unstructured()["discrete"]["time_s"], h3()["discrete"]["time_s"]]),
     ("docs/hybrid.md", "Thesis wall H = {} m, sand phi = {} deg, c = 0, gamma = {}, E = {} MPa, "
      "nu = {}, psi = phi",
      lambda: [h3()["parameters"]["height"], h3()["parameters"]["phi"],

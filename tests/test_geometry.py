@@ -169,3 +169,32 @@ def test_structured_footing_mesh(builder, cells):
     assert sizes.sum() == pytest.approx(4.2, rel=1e-9)
     assert sizes[-1] == pytest.approx(0.4, rel=0.1)
     assert grading(0.3, 0.08, 0.4) == (4, 1.0)  # shorter than the last size: uniform
+
+
+@pytest.mark.parametrize("cells", ["triangle", "quadrilateral"])
+@pytest.mark.parametrize("size", [1.0, 0.5])
+def test_unstructured_wall_mesh(builder, cells, size):
+    """The wall's unstructured option: the same named groups and regions as the structured
+    grid, cells all of one type (full-quad recombination leaves no triangle in the 1 m ground
+    layer), none inverted, quadrilateral corners no sharper than 30 deg (sine 0.5)."""
+    mesh = build_mesh(builder("wall"), size=size, cells=cells, structured=False)
+    assert mesh.cell_type == cells  # build_mesh refuses a mesh of mixed cell types
+    assert set(mesh.cell_groups) == {"backfill", "ground"}
+    assert set(mesh.facet_groups) == {"wall", "base", "right", "left", "surface",
+                                      "backfill_base"}
+    x, nodes = mesh.cell_vertices()
+    polys = x[nodes]
+    area = 0.5 * np.sum(polys[:, :, 0] * np.roll(polys[:, :, 1], -1, axis=1)
+                        - np.roll(polys[:, :, 0], -1, axis=1) * polys[:, :, 1], axis=1)
+    assert np.all(area > 0)
+    assert area[mesh.cells("backfill")].sum() == pytest.approx(20.0 * 10.0, rel=1e-12)
+    assert area[mesh.cells("ground")].sum() == pytest.approx(40.0 * 1.0, rel=1e-12)
+    # not the structured grid: its cells do not all have the structured cells' area
+    per_cell = size ** 2 / (1 if cells == "quadrilateral" else 2)
+    assert not np.allclose(area, per_cell, rtol=1e-6)
+    if cells == "quadrilateral":
+        e_in = polys - np.roll(polys, 1, axis=1)
+        e_out = np.roll(polys, -1, axis=1) - polys
+        sine = (e_in[..., 0] * e_out[..., 1] - e_in[..., 1] * e_out[..., 0]) / (
+            np.linalg.norm(e_in, axis=2) * np.linalg.norm(e_out, axis=2))
+        assert sine.min() > 0.5

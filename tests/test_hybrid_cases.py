@@ -10,7 +10,7 @@ import json
 
 import meshio
 import pytest
-from conftest import assert_bars
+from conftest import CASES, assert_bars
 
 from hybrid.errors import RunUnstable, StageIncomplete
 from hybrid.references import strip_footing_estimates
@@ -123,6 +123,43 @@ def test_retaining_wall_collapse_full(case, tmp_path):
     default, fine = (runs[size]["discrete"] for size in (0.5, 0.25))
     assert abs(default["wedge_angle_deg"] - fine["wedge_angle_deg"]) <= 5.0
     assert abs(fine["runout_m"] / default["runout_m"] - 1.0) <= 0.10
+
+
+@pytest.fixture(scope="module")
+def h3_structured_and_unstructured(tmp_path_factory):
+    """H3 at the default 0.5 m on the structured grid and on gmsh's unstructured
+    quadrilaterals (run once for the tests below), each at its bars and at rest."""
+    from hybrid.case import load_case
+
+    out = tmp_path_factory.mktemp("h3_meshes")
+    runs = {structured: load_case(CASES / "retaining_wall_collapse.py").main(
+        out=out / f"structured_{structured}", structured=structured, progress=False)
+        for structured in (True, False)}
+    for s in runs.values():
+        assert_bars(s)
+        assert s["checks"]["wedge_angle"].bar is not None
+        assert s["discrete"]["stop"] == "rest"
+    return runs[True]["discrete"], runs[False]["discrete"]
+
+
+@pytest.mark.slow
+def test_retaining_wall_collapse_unstructured_wedge(h3_structured_and_unstructured):
+    """H3's wedge at 0.1 H on the unstructured 0.5 m quadrilaterals within 5 deg (the bar of
+    the Rankine comparison) of the structured grid's."""
+    structured, unstructured = h3_structured_and_unstructured
+    assert abs(unstructured["wedge_angle_deg"] - structured["wedge_angle_deg"]) <= 5.0
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, raises=AssertionError, reason=(
+    "the unstructured 0.5 m quadrilaterals run out 10.3 m against the structured grid's "
+    "11.9 m (13 % shorter; they come to rest at 6.0 s against 14.1 s, the debris surface at "
+    "14 deg against 25 deg)"))
+def test_retaining_wall_collapse_unstructured_runout(h3_structured_and_unstructured):
+    """H3's run-out on the unstructured 0.5 m quadrilaterals within 10 % of the structured
+    grid's (a measure of one dynamic collapse, the bar of the refinement study)."""
+    structured, unstructured = h3_structured_and_unstructured
+    assert abs(unstructured["runout_m"] / structured["runout_m"] - 1.0) <= 0.10
 
 
 @pytest.mark.slow
