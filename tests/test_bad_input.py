@@ -19,7 +19,8 @@ from conftest import CASES, PYTHON, ROOT
 
 from hybrid.discrete.builders import blocks, rectangle
 from hybrid.discrete.ledger import EnergyLedger
-from hybrid.discrete.solver import RUNAWAY_MARGIN, _Monitor, run
+from hybrid.discrete.monitor import RUNAWAY_MARGIN, Monitor
+from hybrid.discrete.solver import run
 from hybrid.materials import Contact, Material
 from hybrid.model import Displacement, Model, ModelError, Pressure, Roller, Traction
 
@@ -107,7 +108,7 @@ def test_monitor_stops_slow_growth_beyond_the_margin():
     st = rectangle(1.0, 1.0, 1, 1, material=BLOCK)
     terms = dict.fromkeys(EnergyLedger.__dataclass_fields__, 0.0)
     start = EnergyLedger(**{**terms, "kinetic": 1.0})
-    monitor = _Monitor(st, start, 1e-4)
+    monitor = Monitor(st, start, 1e-4)
     energy, checks = 1.0, 0
     with pytest.raises(RuntimeError, match="above the margin"):
         while checks < 100:

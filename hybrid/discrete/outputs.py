@@ -37,13 +37,8 @@ from typing import Any
 import numpy as np
 
 from hybrid.discrete.ledger import EnergyLedger
-from hybrid.discrete.solver import (
-    ExplicitSolver,
-    Observer,
-    RunResult,
-    require_same_settings,
-    settings_text,
-)
+from hybrid.discrete.options import RunResult, require_same_settings, settings_text
+from hybrid.discrete.solver import ExplicitSolver, Observer
 from hybrid.discrete.state import DiscreteState
 from hybrid.errors import OutputError
 from hybrid.snapshot import STRESS_NAMES

@@ -8,11 +8,12 @@ the contact terms of the energy ledger (``contact.mid_step_work``, see
 ``hybrid.discrete.ledger``) and, every ``split_every`` steps, interface failure and splitting
 (``ties``). :meth:`ExplicitSolver.run` only loops and checks: every ``check_every`` steps it
 measures the ledger, stops an unstable run, records the history, detects rest and calls the
-observers and ``on_check``.
+observers and ``on_check``; the checks themselves are in ``hybrid.discrete.monitor``.
 
 The settings are split in two. :class:`RunOptions` (physics and numerics: time step,
-damping, splitting, contact, element formulation) is fixed for the solver's lifetime, so one
-solver is one consistent model. The arguments of :meth:`ExplicitSolver.run` say when one run
+damping, splitting, contact, element formulation; defined with :class:`RunResult` in
+``hybrid.discrete.options``) is fixed for the solver's lifetime, so one solver is one
+consistent model. The arguments of :meth:`ExplicitSolver.run` say when one run
 stops and how it is watched (``until_time``, ``max_steps``, ``until_rest`` with
 ``rest_min_steps``, ``check_every``, ``on_check``); several runs of one solver continue each
 other (a loading phase, then a rest phase). Outputs (time series, frames, checkpoints,
@@ -28,7 +29,7 @@ import math
 import time as _time
 import warnings
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -38,6 +39,21 @@ from hybrid.constitutive.softening import warn_snap_back
 from hybrid.constitutive.table import SOFTENING_DISPLACEMENT
 from hybrid.discrete import integrate, ties
 from hybrid.discrete.ledger import EnergyLedger
+from hybrid.discrete.monitor import (
+    Monitor,
+    check_distortion,
+    input_fault,
+    raise_non_finite,
+    record_check,
+)
+from hybrid.discrete.options import (
+    HISTORY_KEYS,
+    RESULT_NUMBERS,
+    RunOptions,
+    RunResult,
+    require_same_settings,
+    settings_text,
+)
 from hybrid.discrete.state import (
     LEDGER_CONTACT_DAMPING,
     LEDGER_CONTACT_NORMAL,
@@ -45,15 +61,11 @@ from hybrid.discrete.state import (
     DiscreteState,
     read_checkpoint,
 )
-from hybrid.errors import RunUnstable
 
 __all__ = ["RunOptions", "ExplicitSolver", "Observer", "RunResult", "run",
            "has_contact_module"]
 
 log = logging.getLogger(__name__)
-
-#: keys of ``RunResult.history`` (the ledger's terms between time/step and residual)
-HISTORY_KEYS = ("time", "step", *(f.name for f in fields(EnergyLedger)), "residual")
 
 
 def has_contact_module() -> bool:
@@ -65,141 +77,6 @@ def has_contact_module() -> bool:
     return True
 
 
-@dataclass(frozen=True, kw_only=True)
-class RunOptions:
-    """Physics and numerics of an :class:`ExplicitSolver`, fixed for its lifetime.
-
-    Attributes:
-        dt: time step [s]; None reuses ``state.dt`` (a continued state) or takes ``safety``
-            times the stable step. A dt above the stable step is refused.
-        safety: fraction of the stable time step when dt is None, in (0, 1] [-].
-        mass_damping: alpha of the mass-proportional damping C = alpha M [1/s] (thesis eq
-            3.12), >= 0.
-        local_damping: Cundall's local non-viscous damping d in [0, 1) [-] (quasi-static
-            phases).
-        bbar: Q4 with the mean-dilatation B-bar (True, no volumetric locking) or full 2x2
-            integration (False, as dolfinx Q1).
-        plastic_strain_cap: expert option for materials without softening: a Gauss point
-            whose accumulated plastic strain reaches it responds elastically from then on [-]
-            (None: no cap), so that a perfectly plastic element flowing without end does not
-            turn inside out. With softening materials none is needed: an element beside a
-            failed bond stops yielding at its residual (``ties.band_plastic_cap``).
-        split_every: check the interfaces for failure and split every N steps (0: never).
-        split_plastic_strain: expert option for materials without softening: interfaces
-            also fail where the adjacent Gauss points' mean plastic strain exceeds it [-]
-            (None: the strength criteria and softening only, see ``ties``).
-        contact: contact detection and forces; None: on when ``hybrid.discrete.contact``
-            exists and there are several bodies or splitting.
-        contact_refresh: steps between contact-pair searches (also after each splitting
-            check).
-        margin_factor: search margin of the pair search, this times the largest speed times
-            ``contact_refresh`` dt [-].
-        contact_bounds: (xmin, ymin, xmax, ymax) [m] of the contact grid; an element leaving
-            them stops the run with a ValueError (None: the bounds of the elements).
-        contact_hinges: also take as contact candidates the element pairs still tied at a
-            single vertex (``find_contact_pairs(..., hinges=True)``): after a partial split
-            two elements whose common edge failed rotate about that vertex and otherwise
-            interpenetrate without any contact force, then repel with a deep overlap when the
-            last tie fails (the retaining-wall collapse gained ~1 600 kJ/m through the normal
-            contact forces by t = 0.2 s without it, 0.006 kJ/m with it).
-    """
-
-    dt: float | None = None
-    safety: float = 0.5
-    mass_damping: float = 0.0
-    local_damping: float = 0.0
-    bbar: bool = True
-    plastic_strain_cap: float | None = None
-    split_every: int = 0
-    split_plastic_strain: float | None = None
-    contact: bool | None = None
-    contact_refresh: int = 10
-    margin_factor: float = 2.0
-    contact_bounds: tuple[float, float, float, float] | None = None
-    contact_hinges: bool = True
-
-    def __post_init__(self) -> None:
-        """Refuse bad values with the option's name and the fix."""
-        if self.dt is not None and not (math.isfinite(self.dt) and self.dt > 0.0):
-            raise ValueError(f"dt = {self.dt!r}: must be a finite positive number [s] (None: "
-                             "safety x the stable time step)")
-        if not 0.0 < self.safety <= 1.0:
-            raise ValueError(f"safety = {self.safety!r}: must be in (0, 1] (a fraction of the "
-                             "stable time step)")
-        if not (math.isfinite(self.mass_damping) and self.mass_damping >= 0.0):
-            raise ValueError(f"mass_damping = {self.mass_damping!r}: alpha must be >= 0 [1/s]")
-        if not 0.0 <= self.local_damping < 1.0:
-            raise ValueError(f"local_damping = {self.local_damping!r}: must be in [0, 1)")
-        if self.plastic_strain_cap is not None and not self.plastic_strain_cap > 0.0:
-            raise ValueError(f"plastic_strain_cap = {self.plastic_strain_cap!r}: must be > 0 "
-                             "(None: no cap)")
-        if self.split_plastic_strain is not None and not self.split_plastic_strain > 0.0:
-            raise ValueError(f"split_plastic_strain = {self.split_plastic_strain!r}: must be "
-                             "> 0 (None: strength criteria only)")
-        for name in ("split_every", "contact_refresh"):
-            val = getattr(self, name)
-            if int(val) != val or val < 0:
-                raise ValueError(f"{name} = {val!r}: must be an integer >= 0")
-        if not (math.isfinite(self.margin_factor) and self.margin_factor >= 0.0):
-            raise ValueError(f"margin_factor = {self.margin_factor!r}: must be >= 0")
-        b = self.contact_bounds
-        if b is not None and not (len(b) == 4 and b[0] < b[2] and b[1] < b[3]):
-            raise ValueError(f"contact_bounds = {b!r}: must be (xmin, ymin, xmax, ymax) with "
-                             "xmin < xmax and ymin < ymax [m]")
-
-
-@dataclass
-class RunResult:
-    """What :meth:`ExplicitSolver.run` returns: why it stopped, counts and the energy history.
-
-    ``history`` holds one entry per check (and one at the end) under the keys
-    ``HISTORY_KEYS``: time [s], step, the :class:`EnergyLedger` terms [kJ/m] and the residual
-    since the start of this run [kJ/m].
-    """
-
-    stop_reason: str  # "time", "steps", "rest" or "callback"
-    steps: int  # steps taken by this run
-    time: float  # state time at the end [s]
-    dt: float  # time step [s]
-    wall_time: float  # [s]
-    element_steps_per_s: float
-    n_split: int  # interfaces broken during this run
-    history: dict[str, np.ndarray] = field(default_factory=dict)  # energy ledger per check
-    phase: str = ""  # the run's name in the outputs
-    peak_kinetic: float = 0.0  # largest kinetic energy at the start and the checks [kJ/m]
-
-    @property
-    def rest_ratio(self) -> float:
-        """E_kin / max(peak E_kin, E_strain) at the end [-]: the measure of ``until_rest``.
-
-        A run stopped at rest has it at most ``until_rest``; the same number is the rest
-        check of a case, so that the check and the stop never disagree.
-        """
-        h = self.history
-        if not len(h.get("kinetic", ())):
-            raise ValueError("rest_ratio: the run has no energy history")
-        kin, strain = float(h["kinetic"][-1]), float(h["strain"][-1])
-        return kin / max(self.peak_kinetic, kin, strain, 1e-300)
-
-    @property
-    def ending(self) -> str:
-        """How the run ended, for figure titles.
-
-        "At rest (t = 1.1 s)" only when it stopped at rest, else "Not at rest: stopped by
-        <reason> (t = ... s)".
-        """
-        at = f"t = {self.time:.3g} s"
-        if self.stop_reason == "rest":
-            return f"At rest ({at})"
-        reason = {"time": "the time limit", "steps": "the step limit"}.get(self.stop_reason,
-                                                                          self.stop_reason)
-        return f"Not at rest: stopped by {reason} ({at})"
-
-
-_RESULT_NUMBERS = ("steps", "time", "dt", "wall_time", "element_steps_per_s", "n_split",
-                   "peak_kinetic")
-
-
 @dataclass
 class _Progress:
     """A run in progress: everything that decides its future, saved in checkpoints."""
@@ -209,7 +86,7 @@ class _Progress:
     n_total: int | None  # steps of the run when bounded
     external: bool  # loads were non-zero when the run started
     led0: EnergyLedger  # ledger at the start of the run
-    monitor: _Monitor
+    monitor: Monitor
     split0: int  # ``ExplicitSolver.n_split`` at the start
     k: int = 0  # steps done
     peak_ke: float = 0.0  # peak kinetic energy of the run (rest detection) [kJ/m]
@@ -235,7 +112,7 @@ class _Progress:
         """The progress saved by :meth:`arrays`."""
         n_total, external, split0, k = (int(v) for v in a[f"{prefix}numbers"])
         led0 = EnergyLedger(*(float(v) for v in a[f"{prefix}led0"]))
-        monitor = _Monitor(state, led0, dt, contact)
+        monitor = Monitor(state, led0, dt, contact)
         monitor.restore(a[f"{prefix}monitor"])
         return cls(call=str(a[f"{prefix}call"]), phase=str(a[f"{prefix}phase"]),
                    n_total=None if n_total < 0 else n_total, external=bool(external),
@@ -245,33 +122,6 @@ class _Progress:
                          for key in HISTORY_KEYS},
                    callback=_prefixed(a, f"{prefix}on_check."))
 
-
-def settings_text(settings: Any) -> str:
-    """A dataclass's fields as sorted JSON (what a checkpoint records of its settings)."""
-    import dataclasses
-    import json
-
-    values = settings if isinstance(settings, dict) else dataclasses.asdict(settings)
-    return json.dumps(values, sort_keys=True, default=repr)
-
-
-def require_same_settings(path: str | Path, what: str, saved: Any, now: Any) -> None:
-    """Refuse to resume checkpoint ``path`` with other ``what`` than it was written with.
-
-    The message names the fields that differ. ``saved``: the checkpoint's
-    :func:`settings_text` (None: not recorded, nothing to compare).
-    """
-    import json
-
-    if saved is None:
-        return
-    old, new = json.loads(str(saved)), json.loads(settings_text(now))
-    changed = sorted(k for k in old.keys() | new.keys() if old.get(k) != new.get(k))
-    if changed:
-        raise ValueError(
-            f"checkpoint {path} was written with other {what}: "
-            + ", ".join(f"{k} = {old.get(k)!r} then, {new.get(k)!r} now" for k in changed)
-            + "; resume with the same values, or start again with --overwrite")
 
 
 def _prefixed(arrays: dict[str, np.ndarray], prefix: str) -> dict[str, np.ndarray]:
@@ -445,7 +295,7 @@ class ExplicitSolver:
             if st.step % self._refresh == 0 or (self._split_every
                                                 and st.step % self._split_every == 0):
                 if not (np.isfinite(st.x).all() and np.isfinite(st.v).all()):
-                    _raise_non_finite(st, dt, self.contact)
+                    raise_non_finite(st, dt, self.contact)
                 vmax = float(np.max(np.abs(st.v))) if st.n_nodes else 0.0
                 margin = o.margin_factor * vmax * self._refresh * dt
                 margin = max(margin, self._margin_floor)
@@ -554,7 +404,7 @@ class ExplicitSolver:
             self._done_callbacks.append(saved)
             return result
         st, dt = self.state, self.dt
-        fault = _input_fault(st)
+        fault = input_fault(st)
         if fault is not None:
             raise ValueError(f"discrete run refused: {fault}")
         integrate.check_dt(st, dt, contact=self.contact)
@@ -574,7 +424,7 @@ class ExplicitSolver:
                 n_total = n_time if n_total is None else min(n_total, n_time)
             led0 = EnergyLedger.measure(st)
             r = _Progress(call=call, phase=phase, n_total=n_total, external=self._external,
-                          led0=led0, monitor=_Monitor(st, led0, dt, self.contact),
+                          led0=led0, monitor=Monitor(st, led0, dt, self.contact),
                           split0=self.n_split,
                           peak_ke=led0.kinetic)
         self._run = r
@@ -597,13 +447,13 @@ class ExplicitSolver:
                 k = r.k
                 if k % check_every == 0 or (n_total is not None and k == n_total):
                     if not (np.isfinite(st.x).all() and np.isfinite(st.v).all()):
-                        _raise_non_finite(st, dt, self.contact)  # before the ledger reads x
+                        raise_non_finite(st, dt, self.contact)  # before the ledger reads x
                     led = EnergyLedger.measure(st)
                     monitor.check(st, led)
-                    _check_distortion(st, dt, self.contact)
+                    check_distortion(st, dt, self.contact)
                     monitor.e_prev = led.mechanical
                     r.peak_ke = max(r.peak_ke, led.kinetic)
-                    _record(hist, st, led, led0)
+                    record_check(hist, st, led, led0)
                     for obs in observers:
                         obs.checked(self, led)
                     if (until_rest is not None and k >= rest_min_steps
@@ -631,7 +481,7 @@ class ExplicitSolver:
             led = EnergyLedger.measure(st)
             monitor.check(st, led)
             r.peak_ke = max(r.peak_ke, led.kinetic)
-            _record(hist, st, led, led0)
+            record_check(hist, st, led, led0)
         k = r.k
         log.info("discrete run: %d steps, stop=%s, %.3g s wall", k, stop, wall)
         result = RunResult(stop_reason=stop, steps=k, time=st.time, dt=dt, wall_time=wall,
@@ -678,7 +528,7 @@ class ExplicitSolver:
             out[p + "call"] = np.array(call)
             out[p + "stop_reason"] = np.array(res.stop_reason)
             out[p + "phase"] = np.array(res.phase)
-            out[p + "numbers"] = np.array([float(getattr(res, n)) for n in _RESULT_NUMBERS])
+            out[p + "numbers"] = np.array([float(getattr(res, n)) for n in RESULT_NUMBERS])
             out.update({f"{p}hist.{k}": np.asarray(v, dtype=float)
                         for k, v in res.history.items()})
             out.update({f"{p}on_check.{k}": v for k, v in self._done_callbacks[i].items()})
@@ -723,12 +573,12 @@ class ExplicitSolver:
         done = []
         for i in range(n_done):
             p = f"solver.done{i}."
-            if len(extra[p + "numbers"]) != len(_RESULT_NUMBERS):
+            if len(extra[p + "numbers"]) != len(RESULT_NUMBERS):
                 raise ValueError(f"checkpoint {path}: its run results have "
                                  f"{len(extra[p + 'numbers'])} numbers, this version "
-                                 f"{len(_RESULT_NUMBERS)}: written by another version of "
+                                 f"{len(RESULT_NUMBERS)}: written by another version of "
                                  "hybrid; rerun without --resume")
-            nums = dict(zip(_RESULT_NUMBERS, extra[p + "numbers"], strict=True))
+            nums = dict(zip(RESULT_NUMBERS, extra[p + "numbers"], strict=True))
             res = RunResult(stop_reason=str(extra[p + "stop_reason"]),
                             steps=int(nums["steps"]), time=float(nums["time"]),
                             dt=float(nums["dt"]), wall_time=float(nums["wall_time"]),
@@ -817,141 +667,3 @@ def _n_bodies(state: DiscreteState) -> int:
             break
         label = new
     return int(np.unique(label).size)
-
-
-def _record(hist: dict[str, list[float]], state: DiscreteState, led: EnergyLedger,
-            led0: EnergyLedger) -> None:
-    hist["time"].append(state.time)
-    hist["step"].append(float(state.step))
-    for key, val in led.as_dict().items():
-        hist[key].append(val)
-    # relative to the start of this run (the works and dissipations are totals since the
-    # state was made; a continued run starts with them non-zero)
-    hist["residual"].append(led.residual(led0))
-
-
-def _input_fault(state: DiscreteState) -> str | None:
-    """What in the state's inputs makes a run meaningless (None: nothing found).
-
-    Non-finite gravity, external forces, prescribed velocities or masses, a contact damping
-    ratio outside [0, 1], and tie groups with no mass that are free to move (their
-    acceleration would be a force over zero).
-    """
-    for name in ("gravity", "external_force", "prescribed_velocity", "mass"):
-        values = np.asarray(getattr(state, name))
-        bad = ~np.isfinite(values)
-        if bad.any():
-            where = "" if values.ndim == 1 and values.size == 2 else \
-                f" at node {int(np.argwhere(bad)[0][0])}"
-            return (f"{name} holds non-finite values{where} ({int(bad.sum())} entries): give "
-                    "finite numbers")
-    zeta = state.contact_table[:, 3]
-    bad_zeta = ~((zeta >= 0.0) & (zeta <= 1.0))
-    if bad_zeta.any():
-        m = int(np.argmax(bad_zeta))
-        return (f"contact damping ratio {zeta[m]!r} of material {m} is outside [0, 1] (above "
-                "1 the contact damping forces push the bodies apart and create energy)")
-    free = ~state.fixed.all(axis=1)
-    group_free = np.zeros(state.n_groups, dtype=bool)
-    np.logical_or.at(group_free, state.node_group, free)
-    massless = group_free & ~(state.group_mass > 0.0)
-    if massless.any():
-        g = int(np.argmax(massless))
-        return (f"{int(massless.sum())} tie group(s) free to move have no mass (group {g}, "
-                f"nodes {state.group_nodes[state.group_ptr[g]:state.group_ptr[g + 1]].tolist()[:6]}"
-                "): give their material a density > 0 or hold them")
-    return None
-
-
-def _cause(state: DiscreteState, dt: float, contact: bool | None) -> str:
-    """The likeliest cause of an unstable run, checked in order: inputs, distortion, dt."""
-    fault = _input_fault(state)
-    if fault is not None:
-        return f"Cause: {fault}."
-    if np.isfinite(state.x).all():
-        crit = integrate.stable_time_step(state, contact=contact)
-        if dt > crit:
-            return (f"Cause: the elements have distorted so much that the stable time step fell "
-                    f"to {crit:.4g} s, below dt = {dt:.4g} s (give the flowing material a "
-                    "residual strength and a softening displacement so that its bonds fail "
-                    "where it flows; without softening, the expert options plastic_strain_cap "
-                    "and split_plastic_strain; or reduce dt).")
-    return (f"Likely cause: dt = {dt:.4g} s too large for the current mesh or contact "
-            "stiffness (reduce dt or the safety factor), or an element inverted under a "
-            "too large deformation.")
-
-
-def _raise_non_finite(state: DiscreteState, dt: float, contact: bool | None = None) -> None:
-    raise RunUnstable(
-        f"discrete run unstable at step {state.step} (t = {state.time:.6g} s): non-finite "
-        f"coordinates/velocities/energy. {_cause(state, dt, contact)}")
-
-
-#: a run stops when its mechanical energy exceeds this times its sources (energy at the
-#: start of the run and the work of loads and supports)
-RUNAWAY_MARGIN = 2.0
-
-
-class _Monitor:
-    """Stops an unstable run: non-finite numbers, or mechanical energy without a source.
-
-    Runaway: the mechanical energy (kinetic + strain + contact) above ``RUNAWAY_MARGIN``
-    times its sources, however fast it grew. A stable run never holds more than its sources
-    plus the small energy the contact forces create (a few % of the work of gravity).
-    """
-
-    def __init__(self, state: DiscreteState, led0: EnergyLedger, dt: float,
-                 contact: bool | None = None) -> None:
-        """Sources and tolerance of the run starting with ``led0``."""
-        self.e_start = led0.mechanical
-        self.src0 = led0.work_loads + led0.work_supports
-        mass_tot = float(np.sum(state.mass))
-        cmax = float(np.max(np.sqrt((state.material_table[:, 0]
-                                     + 4.0 * state.material_table[:, 1] / 3.0)
-                                    / state.density)))
-        self.tol_e = 1e-12 * mass_tot * cmax**2 + 1e-6 * abs(self.e_start)
-        self.e_prev = self.e_start
-        self.dt = dt
-        self.contact = contact
-
-    def state(self) -> np.ndarray:
-        """What the monitor's future checks depend on, for checkpoints."""
-        return np.array([self.e_start, self.src0, self.tol_e, self.e_prev])
-
-    def restore(self, saved: np.ndarray) -> None:
-        """Continue from :meth:`state`."""
-        self.e_start, self.src0, self.tol_e, self.e_prev = (float(v) for v in saved)
-
-    def check(self, state: DiscreteState, led: EnergyLedger) -> None:
-        """Raise RuntimeError if the state with ledger ``led`` is unstable."""
-        e_now = led.mechanical
-        if not (np.isfinite(e_now) and np.isfinite(state.x).all()
-                and np.isfinite(state.v).all()):
-            _raise_non_finite(state, self.dt, self.contact)
-        supply = (self.e_start + abs(led.work_loads - self.src0) + abs(led.work_supports)
-                  + abs(self.src0))
-        if e_now > RUNAWAY_MARGIN * supply + self.tol_e:
-            raise RunUnstable(
-                f"discrete run unstable at step {state.step} (t = {state.time:.6g} s): "
-                f"mechanical energy {e_now:.4g} kJ/m ({e_now / max(supply, 1e-300):.3g} x its "
-                f"sources {supply:.4g} kJ/m, above the margin of {RUNAWAY_MARGIN:g} x; "
-                f"{self.e_prev:.4g} kJ/m at the last check). "
-                f"{_cause(state, self.dt, self.contact)}")
-
-
-def _check_distortion(state: DiscreteState, dt: float, contact: bool) -> None:
-    """Stop when the elements have distorted below the run's stable time step.
-
-    The run would otherwise end in NaN a few steps later; the message names the remedies.
-    """
-    crit = integrate.stable_time_step(state, contact=contact)
-    if dt > crit:
-        raise RunUnstable(
-            f"discrete run stopped at step {state.step} (t = {state.time:.6g} s): the elements "
-            f"have distorted so much that the stable time step fell to {crit:.4g} s, below the "
-            f"run's dt = {dt:.4g} s (large plastic flow pancakes an element). Give the "
-            "flowing material a residual strength and a softening displacement (its bonds "
-            "then fail where it softens, and the elements beside them stop yielding), use "
-            "larger elements if its residual plastic strain u_r / (sqrt(3) h) is more than an "
-            "element can take, continue with a smaller dt (RunOptions(dt=...)), or, without "
-            "softening, use the expert options split_plastic_strain and plastic_strain_cap.")

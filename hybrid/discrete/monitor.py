@@ -1,0 +1,161 @@
+"""The checks of a discrete run: refused inputs, instability, distortion, the energy history.
+
+:func:`input_fault` finds inputs that make a run meaningless (non-finite loads or masses, a
+contact damping ratio outside [0, 1], free tie groups without mass). :class:`Monitor` stops a
+run whose mechanical energy exceeds ``RUNAWAY_MARGIN`` times its sources or turns non-finite
+(:func:`raise_non_finite`), :func:`check_distortion` one whose elements have distorted below
+its stable time step; each message names the likeliest cause. :func:`record_check` appends a
+check's energy ledger to a run's history.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from hybrid.discrete import integrate
+from hybrid.discrete.ledger import EnergyLedger
+from hybrid.discrete.state import DiscreteState
+from hybrid.errors import RunUnstable
+
+__all__ = ["RUNAWAY_MARGIN", "Monitor", "check_distortion", "input_fault", "raise_non_finite",
+           "record_check"]
+
+
+def record_check(hist: dict[str, list[float]], state: DiscreteState, led: EnergyLedger,
+                 led0: EnergyLedger) -> None:
+    """Append a check to a run's history: time, step, the ledger ``led``, the residual."""
+    hist["time"].append(state.time)
+    hist["step"].append(float(state.step))
+    for key, val in led.as_dict().items():
+        hist[key].append(val)
+    # relative to the start of this run (the works and dissipations are totals since the
+    # state was made; a continued run starts with them non-zero)
+    hist["residual"].append(led.residual(led0))
+
+
+def input_fault(state: DiscreteState) -> str | None:
+    """What in the state's inputs makes a run meaningless (None: nothing found).
+
+    Non-finite gravity, external forces, prescribed velocities or masses, a contact damping
+    ratio outside [0, 1], and tie groups with no mass that are free to move (their
+    acceleration would be a force over zero).
+    """
+    for name in ("gravity", "external_force", "prescribed_velocity", "mass"):
+        values = np.asarray(getattr(state, name))
+        bad = ~np.isfinite(values)
+        if bad.any():
+            where = "" if values.ndim == 1 and values.size == 2 else \
+                f" at node {int(np.argwhere(bad)[0][0])}"
+            return (f"{name} holds non-finite values{where} ({int(bad.sum())} entries): give "
+                    "finite numbers")
+    zeta = state.contact_table[:, 3]
+    bad_zeta = ~((zeta >= 0.0) & (zeta <= 1.0))
+    if bad_zeta.any():
+        m = int(np.argmax(bad_zeta))
+        return (f"contact damping ratio {zeta[m]!r} of material {m} is outside [0, 1] (above "
+                "1 the contact damping forces push the bodies apart and create energy)")
+    free = ~state.fixed.all(axis=1)
+    group_free = np.zeros(state.n_groups, dtype=bool)
+    np.logical_or.at(group_free, state.node_group, free)
+    massless = group_free & ~(state.group_mass > 0.0)
+    if massless.any():
+        g = int(np.argmax(massless))
+        return (f"{int(massless.sum())} tie group(s) free to move have no mass (group {g}, "
+                f"nodes {state.group_nodes[state.group_ptr[g]:state.group_ptr[g + 1]].tolist()[:6]}"
+                "): give their material a density > 0 or hold them")
+    return None
+
+
+def _cause(state: DiscreteState, dt: float, contact: bool | None) -> str:
+    """The likeliest cause of an unstable run, checked in order: inputs, distortion, dt."""
+    fault = input_fault(state)
+    if fault is not None:
+        return f"Cause: {fault}."
+    if np.isfinite(state.x).all():
+        crit = integrate.stable_time_step(state, contact=contact)
+        if dt > crit:
+            return (f"Cause: the elements have distorted so much that the stable time step fell "
+                    f"to {crit:.4g} s, below dt = {dt:.4g} s (give the flowing material a "
+                    "residual strength and a softening displacement so that its bonds fail "
+                    "where it flows; without softening, the expert options plastic_strain_cap "
+                    "and split_plastic_strain; or reduce dt).")
+    return (f"Likely cause: dt = {dt:.4g} s too large for the current mesh or contact "
+            "stiffness (reduce dt or the safety factor), or an element inverted under a "
+            "too large deformation.")
+
+
+def raise_non_finite(state: DiscreteState, dt: float, contact: bool | None = None) -> None:
+    """Raise RunUnstable for non-finite numbers at the state's step, with the likeliest cause."""
+    raise RunUnstable(
+        f"discrete run unstable at step {state.step} (t = {state.time:.6g} s): non-finite "
+        f"coordinates/velocities/energy. {_cause(state, dt, contact)}")
+
+
+#: a run stops when its mechanical energy exceeds this times its sources (energy at the
+#: start of the run and the work of loads and supports)
+RUNAWAY_MARGIN = 2.0
+
+
+class Monitor:
+    """Stops an unstable run: non-finite numbers, or mechanical energy without a source.
+
+    Runaway: the mechanical energy (kinetic + strain + contact) above ``RUNAWAY_MARGIN``
+    times its sources, however fast it grew. A stable run never holds more than its sources
+    plus the small energy the contact forces create (a few % of the work of gravity).
+    """
+
+    def __init__(self, state: DiscreteState, led0: EnergyLedger, dt: float,
+                 contact: bool | None = None) -> None:
+        """Sources and tolerance of the run starting with ``led0``."""
+        self.e_start = led0.mechanical
+        self.src0 = led0.work_loads + led0.work_supports
+        mass_tot = float(np.sum(state.mass))
+        cmax = float(np.max(np.sqrt((state.material_table[:, 0]
+                                     + 4.0 * state.material_table[:, 1] / 3.0)
+                                    / state.density)))
+        self.tol_e = 1e-12 * mass_tot * cmax**2 + 1e-6 * abs(self.e_start)
+        self.e_prev = self.e_start
+        self.dt = dt
+        self.contact = contact
+
+    def state(self) -> np.ndarray:
+        """What the monitor's future checks depend on, for checkpoints."""
+        return np.array([self.e_start, self.src0, self.tol_e, self.e_prev])
+
+    def restore(self, saved: np.ndarray) -> None:
+        """Continue from :meth:`state`."""
+        self.e_start, self.src0, self.tol_e, self.e_prev = (float(v) for v in saved)
+
+    def check(self, state: DiscreteState, led: EnergyLedger) -> None:
+        """Raise RuntimeError if the state with ledger ``led`` is unstable."""
+        e_now = led.mechanical
+        if not (np.isfinite(e_now) and np.isfinite(state.x).all()
+                and np.isfinite(state.v).all()):
+            raise_non_finite(state, self.dt, self.contact)
+        supply = (self.e_start + abs(led.work_loads - self.src0) + abs(led.work_supports)
+                  + abs(self.src0))
+        if e_now > RUNAWAY_MARGIN * supply + self.tol_e:
+            raise RunUnstable(
+                f"discrete run unstable at step {state.step} (t = {state.time:.6g} s): "
+                f"mechanical energy {e_now:.4g} kJ/m ({e_now / max(supply, 1e-300):.3g} x its "
+                f"sources {supply:.4g} kJ/m, above the margin of {RUNAWAY_MARGIN:g} x; "
+                f"{self.e_prev:.4g} kJ/m at the last check). "
+                f"{_cause(state, self.dt, self.contact)}")
+
+
+def check_distortion(state: DiscreteState, dt: float, contact: bool) -> None:
+    """Stop when the elements have distorted below the run's stable time step.
+
+    The run would otherwise end in NaN a few steps later; the message names the remedies.
+    """
+    crit = integrate.stable_time_step(state, contact=contact)
+    if dt > crit:
+        raise RunUnstable(
+            f"discrete run stopped at step {state.step} (t = {state.time:.6g} s): the elements "
+            f"have distorted so much that the stable time step fell to {crit:.4g} s, below the "
+            f"run's dt = {dt:.4g} s (large plastic flow pancakes an element). Give the "
+            "flowing material a residual strength and a softening displacement (its bonds "
+            "then fail where it softens, and the elements beside them stop yielding), use "
+            "larger elements if its residual plastic strain u_r / (sqrt(3) h) is more than an "
+            "element can take, continue with a smaller dt (RunOptions(dt=...)), or, without "
+            "softening, use the expert options split_plastic_strain and plastic_strain_cap.")

@@ -1,0 +1,190 @@
+"""The settings and the result record of a discrete run, and the settings as checkpoints save them.
+
+:class:`RunOptions` (physics and numerics: time step, damping, splitting, contact, element
+formulation) is fixed for an :class:`~hybrid.discrete.solver.ExplicitSolver`'s lifetime;
+:class:`RunResult` is what one run returns, with its energy history under ``HISTORY_KEYS``.
+:func:`settings_text` writes settings as sorted JSON into a checkpoint and
+:func:`require_same_settings` refuses to resume a checkpoint with other settings, naming the
+fields that differ. ``RESULT_NUMBERS`` are the numbers of a :class:`RunResult` a checkpoint
+saves, in order.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, fields
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from hybrid.discrete.ledger import EnergyLedger
+
+__all__ = ["HISTORY_KEYS", "RESULT_NUMBERS", "RunOptions", "RunResult",
+           "require_same_settings", "settings_text"]
+
+#: keys of ``RunResult.history`` (the ledger's terms between time/step and residual)
+HISTORY_KEYS = ("time", "step", *(f.name for f in fields(EnergyLedger)), "residual")
+
+
+@dataclass(frozen=True, kw_only=True)
+class RunOptions:
+    """Physics and numerics of an :class:`ExplicitSolver`, fixed for its lifetime.
+
+    Attributes:
+        dt: time step [s]; None reuses ``state.dt`` (a continued state) or takes ``safety``
+            times the stable step. A dt above the stable step is refused.
+        safety: fraction of the stable time step when dt is None, in (0, 1] [-].
+        mass_damping: alpha of the mass-proportional damping C = alpha M [1/s] (thesis eq
+            3.12), >= 0.
+        local_damping: Cundall's local non-viscous damping d in [0, 1) [-] (quasi-static
+            phases).
+        bbar: Q4 with the mean-dilatation B-bar (True, no volumetric locking) or full 2x2
+            integration (False, as dolfinx Q1).
+        plastic_strain_cap: expert option for materials without softening: a Gauss point
+            whose accumulated plastic strain reaches it responds elastically from then on [-]
+            (None: no cap), so that a perfectly plastic element flowing without end does not
+            turn inside out. With softening materials none is needed: an element beside a
+            failed bond stops yielding at its residual (``ties.band_plastic_cap``).
+        split_every: check the interfaces for failure and split every N steps (0: never).
+        split_plastic_strain: expert option for materials without softening: interfaces
+            also fail where the adjacent Gauss points' mean plastic strain exceeds it [-]
+            (None: the strength criteria and softening only, see ``ties``).
+        contact: contact detection and forces; None: on when ``hybrid.discrete.contact``
+            exists and there are several bodies or splitting.
+        contact_refresh: steps between contact-pair searches (also after each splitting
+            check).
+        margin_factor: search margin of the pair search, this times the largest speed times
+            ``contact_refresh`` dt [-].
+        contact_bounds: (xmin, ymin, xmax, ymax) [m] of the contact grid; an element leaving
+            them stops the run with a ValueError (None: the bounds of the elements).
+        contact_hinges: also take as contact candidates the element pairs still tied at a
+            single vertex (``find_contact_pairs(..., hinges=True)``): after a partial split
+            two elements whose common edge failed rotate about that vertex and otherwise
+            interpenetrate without any contact force, then repel with a deep overlap when the
+            last tie fails (the retaining-wall collapse gained ~1 600 kJ/m through the normal
+            contact forces by t = 0.2 s without it, 0.006 kJ/m with it).
+    """
+
+    dt: float | None = None
+    safety: float = 0.5
+    mass_damping: float = 0.0
+    local_damping: float = 0.0
+    bbar: bool = True
+    plastic_strain_cap: float | None = None
+    split_every: int = 0
+    split_plastic_strain: float | None = None
+    contact: bool | None = None
+    contact_refresh: int = 10
+    margin_factor: float = 2.0
+    contact_bounds: tuple[float, float, float, float] | None = None
+    contact_hinges: bool = True
+
+    def __post_init__(self) -> None:
+        """Refuse bad values with the option's name and the fix."""
+        if self.dt is not None and not (math.isfinite(self.dt) and self.dt > 0.0):
+            raise ValueError(f"dt = {self.dt!r}: must be a finite positive number [s] (None: "
+                             "safety x the stable time step)")
+        if not 0.0 < self.safety <= 1.0:
+            raise ValueError(f"safety = {self.safety!r}: must be in (0, 1] (a fraction of the "
+                             "stable time step)")
+        if not (math.isfinite(self.mass_damping) and self.mass_damping >= 0.0):
+            raise ValueError(f"mass_damping = {self.mass_damping!r}: alpha must be >= 0 [1/s]")
+        if not 0.0 <= self.local_damping < 1.0:
+            raise ValueError(f"local_damping = {self.local_damping!r}: must be in [0, 1)")
+        if self.plastic_strain_cap is not None and not self.plastic_strain_cap > 0.0:
+            raise ValueError(f"plastic_strain_cap = {self.plastic_strain_cap!r}: must be > 0 "
+                             "(None: no cap)")
+        if self.split_plastic_strain is not None and not self.split_plastic_strain > 0.0:
+            raise ValueError(f"split_plastic_strain = {self.split_plastic_strain!r}: must be "
+                             "> 0 (None: strength criteria only)")
+        for name in ("split_every", "contact_refresh"):
+            val = getattr(self, name)
+            if int(val) != val or val < 0:
+                raise ValueError(f"{name} = {val!r}: must be an integer >= 0")
+        if not (math.isfinite(self.margin_factor) and self.margin_factor >= 0.0):
+            raise ValueError(f"margin_factor = {self.margin_factor!r}: must be >= 0")
+        b = self.contact_bounds
+        if b is not None and not (len(b) == 4 and b[0] < b[2] and b[1] < b[3]):
+            raise ValueError(f"contact_bounds = {b!r}: must be (xmin, ymin, xmax, ymax) with "
+                             "xmin < xmax and ymin < ymax [m]")
+
+
+@dataclass
+class RunResult:
+    """What :meth:`ExplicitSolver.run` returns: why it stopped, counts and the energy history.
+
+    ``history`` holds one entry per check (and one at the end) under the keys
+    ``HISTORY_KEYS``: time [s], step, the :class:`EnergyLedger` terms [kJ/m] and the residual
+    since the start of this run [kJ/m].
+    """
+
+    stop_reason: str  # "time", "steps", "rest" or "callback"
+    steps: int  # steps taken by this run
+    time: float  # state time at the end [s]
+    dt: float  # time step [s]
+    wall_time: float  # [s]
+    element_steps_per_s: float
+    n_split: int  # interfaces broken during this run
+    history: dict[str, np.ndarray] = field(default_factory=dict)  # energy ledger per check
+    phase: str = ""  # the run's name in the outputs
+    peak_kinetic: float = 0.0  # largest kinetic energy at the start and the checks [kJ/m]
+
+    @property
+    def rest_ratio(self) -> float:
+        """E_kin / max(peak E_kin, E_strain) at the end [-]: the measure of ``until_rest``.
+
+        A run stopped at rest has it at most ``until_rest``; the same number is the rest
+        check of a case, so that the check and the stop never disagree.
+        """
+        h = self.history
+        if not len(h.get("kinetic", ())):
+            raise ValueError("rest_ratio: the run has no energy history")
+        kin, strain = float(h["kinetic"][-1]), float(h["strain"][-1])
+        return kin / max(self.peak_kinetic, kin, strain, 1e-300)
+
+    @property
+    def ending(self) -> str:
+        """How the run ended, for figure titles.
+
+        "At rest (t = 1.1 s)" only when it stopped at rest, else "Not at rest: stopped by
+        <reason> (t = ... s)".
+        """
+        at = f"t = {self.time:.3g} s"
+        if self.stop_reason == "rest":
+            return f"At rest ({at})"
+        reason = {"time": "the time limit", "steps": "the step limit"}.get(self.stop_reason,
+                                                                          self.stop_reason)
+        return f"Not at rest: stopped by {reason} ({at})"
+
+
+RESULT_NUMBERS = ("steps", "time", "dt", "wall_time", "element_steps_per_s", "n_split",
+                  "peak_kinetic")
+
+
+def settings_text(settings: Any) -> str:
+    """A dataclass's fields as sorted JSON (what a checkpoint records of its settings)."""
+    import dataclasses
+    import json
+
+    values = settings if isinstance(settings, dict) else dataclasses.asdict(settings)
+    return json.dumps(values, sort_keys=True, default=repr)
+
+
+def require_same_settings(path: str | Path, what: str, saved: Any, now: Any) -> None:
+    """Refuse to resume checkpoint ``path`` with other ``what`` than it was written with.
+
+    The message names the fields that differ. ``saved``: the checkpoint's
+    :func:`settings_text` (None: not recorded, nothing to compare).
+    """
+    import json
+
+    if saved is None:
+        return
+    old, new = json.loads(str(saved)), json.loads(settings_text(now))
+    changed = sorted(k for k in old.keys() | new.keys() if old.get(k) != new.get(k))
+    if changed:
+        raise ValueError(
+            f"checkpoint {path} was written with other {what}: "
+            + ", ".join(f"{k} = {old.get(k)!r} then, {new.get(k)!r} now" for k in changed)
+            + "; resume with the same values, or start again with --overwrite")
