@@ -113,9 +113,11 @@ docs: setup
 	cp $(DOCS_RUN)/d10/failures.png docs/figures/hybrid/d10_toppling_failures.png
 	for a in 0.5 1 2; do $(PY) -m hybrid run cases/granular_collapse.py --out $(DOCS_RUN)/r1_a$$a \
 	  --set aspect=$$a --set progress=false --overwrite; done
-	for n in 10 30; do $(PY) -m hybrid run cases/granular_collapse.py \
-	  --out $(DOCS_RUN)/r1_a0.5_nx$$n --set nx=$$n --set progress=false --overwrite; done
-	for r in a0.5 a1 a2 a0.5_nx10 a0.5_nx30; do \
+	# R1's sensitivity to the grain size (L0 / 10 and L0 / 30 beside the table's L0 / 20)
+	for a in 0.5 1 2; do for n in 10 30; do $(PY) -m hybrid run cases/granular_collapse.py \
+	  --out $(DOCS_RUN)/r1_a$${a}_nx$$n --set aspect=$$a --set nx=$$n --set progress=false \
+	  --overwrite; done; done
+	for r in a0.5 a1 a2 a0.5_nx10 a0.5_nx30 a1_nx10 a1_nx30 a2_nx10 a2_nx30; do \
 	  cp $(DOCS_RUN)/r1_$$r/summary.json docs/summaries/r1_$$r.json; done
 	$(PY) -c "import json, runpy; f = runpy.run_path('cases/granular_collapse.py')['plot_deposits']; \
 	  f('docs/figures/hybrid/r1_deposits.png', [json.load(open(f'docs/summaries/r1_a{a}.json')) \

@@ -3,7 +3,7 @@
 Objective
     The hybrid pipeline on a cohesionless backfill: continuum active state, handover, then the
     wall taken away and the backfill followed as it fails and runs out to rest; the angle of the
-    failure wedge is measured from the failed interfaces and compared with Rankine's
+    failure wedge is measured from the zone that moves and compared with Rankine's
     45 + phi / 2.
 Problem
     The thesis wall: H = 10 m, dry sand phi = 30 deg, c = 0, gamma = 16.5 kN/m3, E = 70 MPa,
@@ -22,14 +22,17 @@ Set-up
        interfaces may split (bond strength = the sand's: c = 0, phi, no tension); the ground is
        held (a rigid base and run-out surface).
     3. Discrete: the wall is removed (its nodes released) and the backfill is followed until
-       rest; bonds also fail beyond ``split_plastic_strain``, element flow stops at
-       ``plastic_strain_cap`` (``hybrid.discrete.RunOptions``).
+       rest. The sand is perfectly plastic and sets no expert option: its bonds fail in
+       tension, and an element that has distorted as far as an element can follow the flow
+       parts from its neighbours and goes on as an elastic fragment
+       (``hybrid.discrete.ties.DISTORTION_LIMIT``).
 Verification
-    Wedge angle: the back of the failed zone (at each level of the backfill the failed
-    interface furthest from the wall, reference shape) is fitted with a straight line; its
-    inclination when the top of the wall face has moved ``wedge_at`` = 0.1 H is compared with
-    45 + phi/2 = 60 deg (bar 5 deg). The same fit at 0.01 H ... 0.2 H of movement and
-    at rest is reported: the scarp retreats and flattens as the debris runs out. The run must
+    Wedge angle: the back of the zone that moves (at each level of the backfill the element
+    furthest from the wall that has moved ``MOVING_FRACTION`` = 5 % of the face top's
+    movement, reference shape) is fitted with a straight line; its inclination when the top
+    of the wall face has moved ``wedge_at`` = 0.1 H is compared with 45 + phi/2 = 60 deg (bar
+    5 deg). The same fit at 0.01 H ... 0.2 H of movement and at rest is reported: the scarp
+    retreats and flattens as the debris runs out. The run must
     reach rest with bounded energy (E_kin + E_strain + E_contact never above the initial
     energy plus the work of gravity) and keep its elements and mass. Reported: the run-out
     (toe position), the final slope angle, the active / passive thrusts against Rankine.
@@ -49,6 +52,7 @@ from hybrid.continuum import PlasticSolver
 from hybrid.continuum.series import ContinuumSeries
 from hybrid.discrete.energy import energy_excess, energy_peak_ratio
 from hybrid.discrete.figures import plot_configuration
+from hybrid.discrete.measures import MOVING_FRACTION, moving_zone_back
 from hybrid.discrete.outputs import standard_outputs
 from hybrid.discrete.solver import ExplicitSolver, RunOptions
 from hybrid.figures import engineering_figures
@@ -78,8 +82,6 @@ class Parameters(CaseParameters):
     translation: float = param(0.02, gt=0)  # active wall movement in the continuum [m]
     passive_translation: float = param(0.4, ge=0)  # passive stage (0: skipped) [m]
     steps: int = param(10, ge=1)  # continuum increments per stage
-    split_plastic_strain: float = param(0.02, gt=0)  # bonds fail beyond this plastic strain [-]
-    plastic_strain_cap: float = param(0.3, gt=0)  # element flow stops here, sliding takes over [-]
     contact_damping: float = param(0.2, ge=0, le=1)  # normal contact damping ratio zeta [-]
     mass_damping: float = param(1.0, ge=0)  # mass damping alpha [1/s]
     wedge_at: float = param(1.0, gt=0)  # face-top movement at which the wedge is measured (0.1 H)
@@ -183,19 +185,20 @@ def main(out: str | Path = "results/retaining_wall_collapse", **overrides) -> Ca
     window = (-p.front, -1.0, p.length, 1.1 * p.height)
     plot_configuration(out / "discrete_start.png", disc, window=window,
                        title="Discrete start (active state): plastic strain")
-    # the back of the failed zone as the face top moves: fractions of H, the bar at wedge_at
+    # the back of the moving zone as the face top moves: fractions of H, the bar at wedge_at
     marks = sorted({p.wedge_at, *(f * p.height for f in (0.01, 0.02, 0.05, 0.1, 0.2))})
     wedge: dict[str, dict] = {}
 
     def watch(s) -> bool:
         moved = x_top - s.x[top, 0]
         while marks and moved >= marks[0]:
-            angle, a = failed_zone_back(s, backfill, p.height, p.size)
+            angle, a = moving_zone_back(s, backfill, p.height, p.size,
+                                        MOVING_FRACTION * marks[0])
             wedge[f"{marks[0]:g}"] = {"time_s": s.time, "angle_deg": angle, "intercept_m": a}
             if marks[0] == p.wedge_at:
                 rk = 1.0 / math.tan(math.radians(45.0 + p.phi / 2.0))
                 ck = 1.0 / math.tan(math.radians(angle))
-                lines = {f"back of the failed zone: {angle:.1f} deg": [
+                lines = {f"back of the moving zone: {angle:.1f} deg": [
                              [[a, 0.0], [a + p.height * ck, p.height]]],
                          "45 + phi/2": [[[a, 0.0], [a + p.height * rk, p.height]]]}
                 plot_configuration(out / "wedge.png", s, window=(-5.0, -1.0, 15.0, 11.0),
@@ -206,8 +209,7 @@ def main(out: str | Path = "results/retaining_wall_collapse", **overrides) -> Ca
         return False
 
     options = RunOptions(
-        mass_damping=p.mass_damping, split_plastic_strain=p.split_plastic_strain,
-        plastic_strain_cap=p.plastic_strain_cap, split_every=10,
+        mass_damping=p.mass_damping, split_every=10,
         contact_bounds=(-p.front - p.height, -2.0, p.length + 1.0, 2.0 * p.height))
     outputs = standard_outputs(out / "discrete", output_every=p.output_every,
                                progress=p.progress)
@@ -218,7 +220,8 @@ def main(out: str | Path = "results/retaining_wall_collapse", **overrides) -> Ca
     sand_nodes = np.unique(disc.element_nodes[backfill])
     toe = float(disc.x[sand_nodes, 0].min())
     angle = wedge.get(f"{p.wedge_at:g}", {}).get("angle_deg", float("nan"))
-    rest_angle, rest_a = failed_zone_back(disc, backfill, p.height, p.size)
+    rest_angle, rest_a = moving_zone_back(disc, backfill, p.height, p.size,
+                                          MOVING_FRACTION * (x_top - disc.x[top, 0]))
     checks["wedge_angle"] = Check(angle, 45.0 + p.phi / 2.0, 5.0 / (45.0 + p.phi / 2.0), "deg",
                                   f"45 + phi/2, within 5 deg; face top moved {p.wedge_at:g} m")
     checks["energy_excess_over_sources"] = Check(
@@ -232,8 +235,8 @@ def main(out: str | Path = "results/retaining_wall_collapse", **overrides) -> Ca
         "elements": disc.n_elements, "dt_s": res.dt, "steps": res.steps, "time_s": res.time,
         "stop": res.stop_reason, "wall_time_s": res.wall_time,
         "element_steps_per_s": res.element_steps_per_s,
-        "wedge_angle_deg": angle, "failed_zone_back_by_face_movement_m": wedge,
-        "failed_zone_back_at_rest": {"angle_deg": rest_angle, "intercept_m": rest_a},
+        "wedge_angle_deg": angle, "moving_zone_back_by_face_movement_m": wedge,
+        "moving_zone_back_at_rest": {"angle_deg": rest_angle, "intercept_m": rest_a},
         "interfaces_failed": int((~disc.interface_intact).sum()),
         "toe_x_m": toe, "runout_m": -toe,
         "final_slope_deg": final_slope(disc, sand_nodes, p.height),
@@ -244,26 +247,6 @@ def main(out: str | Path = "results/retaining_wall_collapse", **overrides) -> Ca
     plot_configuration(out / "final.png", disc, window=window, outline=True,
                        title=f"{res.ending}: run-out {-toe:.3g} m")
     return summary
-
-
-def failed_zone_back(state, backfill: np.ndarray, height: float, size: float
-                     ) -> tuple[float, float]:
-    """Inclination [deg from the horizontal] and base intercept a [m] of the back of the failed
-    zone: at each level of the backfill (bins of ``size``, reference shape) the failed interface
-    furthest from the wall; least squares line x = a + y cot(angle) through them."""
-    nodes = state.interface_nodes
-    failed = ~state.interface_intact & backfill[state.interface_elements].all(1)
-    mid = state.x_ref[nodes[failed][:, :2]].mean(axis=1)
-    ys, xs = [], []
-    for lo in np.arange(0.0, height, size):
-        pick = (mid[:, 1] >= lo) & (mid[:, 1] < lo + size) & (mid[:, 0] > 0.0)
-        if pick.any():
-            ys.append(lo + 0.5 * size)
-            xs.append(float(mid[pick, 0].max()))
-    if len(ys) < 3:
-        return float("nan"), float("nan")
-    cot, a = np.polyfit(ys, xs, 1)
-    return math.degrees(math.atan2(1.0, cot)), float(a)
 
 
 def final_slope(state, nodes: np.ndarray, height: float) -> float:

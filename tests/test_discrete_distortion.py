@@ -1,11 +1,17 @@
-"""A run whose elements pancake stops with a clear message instead of ending in NaN."""
+"""Distorted elements: a flowing one parts from its neighbours; one that cannot (held, or a
+lone element squashed) stops the run with a clear message instead of ending in NaN."""
 
+import math
+
+import numpy as np
 import pytest
 
-from hybrid.discrete import rectangle
+from hybrid.discrete import rectangle, ties
+from hybrid.discrete.builders import blocks
 from hybrid.discrete.integrate import stable_time_step
-from hybrid.discrete.solver import run
-from hybrid.materials import Material
+from hybrid.discrete.solver import ExplicitSolver, RunOptions, run
+from hybrid.errors import RunUnstable
+from hybrid.materials import Contact, Material
 
 
 def test_pancaked_element_stops_the_run_clearly():
@@ -24,3 +30,65 @@ def test_pancaked_element_stops_the_run_clearly():
     # it stopped when the height was about half (the stable step ~ height here)
     height = st.x[~bottom, 1].mean() - st.x[bottom, 1].mean()
     assert 0.4 < height < 0.55
+
+
+def test_stable_step_ratio_of_squashed_and_stretched_elements():
+    """The ratio is the element's stable step over its initial one: the least altitude
+    (A / longest edge for Q4, 2 A / longest edge for T3) and sqrt(1 / longest edge)."""
+    for element, altitude in (("Q4", lambda a, lmax: a / lmax),
+                              ("T3", lambda a, lmax: 2.0 * a / lmax)):
+        st = rectangle(1.0, 1.0, 1, 1, element, material=Material(name="b", E=1e4, nu=0.0,
+                                                                   density=2.0))
+        assert np.allclose(ties.stable_step_ratio(st), 1.0)
+        st.x[:, 1] *= 0.6  # squashed to 0.6 of its height
+        ratio = ties.stable_step_ratio(st)
+        area0, area = (0.5 if element == "T3" else 1.0), (0.3 if element == "T3" else 0.6)
+        lmax0 = math.sqrt(2.0) if element == "T3" else 1.0
+        lmax = math.sqrt(1.0 + 0.36) if element == "T3" else 1.0
+        expect = min(altitude(area, lmax) / altitude(area0, lmax0), math.sqrt(lmax0 / lmax))
+        np.testing.assert_allclose(ratio, expect, rtol=1e-12)
+        st.x[:, 1] /= 0.6
+        st.x[:, 0] *= 2.0  # stretched to twice its length: the longest edge rules
+        lmax = math.sqrt(4.0 + 1.0) if element == "T3" else 2.0
+        expect = min(altitude(2.0 * area0, lmax) / altitude(area0, lmax0),
+                     math.sqrt(lmax0 / lmax))
+        np.testing.assert_allclose(ties.stable_step_ratio(st), expect, rtol=1e-12)
+        assert ties.distorted_elements(st).all() == (expect < ties.DISTORTION_LIMIT)
+
+
+def _slump():
+    """A 2 m block of soft clay (c = 3 kPa, phi = 0; a vertical cut stands to about 4 c /
+    gamma = 0.6 m) on a rigid ground: it slumps under its own weight."""
+    clay = Material(name="clay", E=5e3, nu=0.3, density=2.0, cohesion=3.0, phi=0.0,
+                    plastic=True, contact=Contact(phi=20.0, damping=0.2))
+    ground = Material(name="ground", E=5e3, nu=0.3, density=2.0,
+                      contact=Contact(phi=20.0, damping=0.2))
+    st = blocks([(2.0, 2.0, 4, 4, (0.0, 0.0), 0), (8.0, 0.5, 16, 1, (-3.0, -0.5), 1)],
+                [clay, ground], rigid=(1,))
+    options = RunOptions(split_every=10, mass_damping=1.0, contact=True,
+                         contact_bounds=(-10.0, -2.0, 10.0, 4.0))
+    return st, options
+
+
+def test_a_flowing_element_parts_from_its_neighbours_instead_of_pancaking(monkeypatch):
+    """Without expert options a perfectly plastic block that slumps comes to rest: elements
+    distorted to the limit part from their neighbours (mode FAIL_DISTORTED) and go on as
+    elastic fragments, so no element's stable step falls to the run's (half the initial one).
+    Without the rule (a limit of 0) the same slump pancakes an element and stops the run."""
+    st, options = _slump()
+    with ExplicitSolver(st, options) as solver:
+        res = solver.run(until_time=3.0, until_rest=1e-4, check_every=50)
+    assert res.stop_reason == "rest"
+    assert (~st.interface_intact).sum() > 0
+    ratio = ties.stable_step_ratio(st)
+    assert ratio.min() > 0.5 and (ratio < ties.DISTORTION_LIMIT).any()
+    assert st.x[:, 0].max() > 3.0  # it spread (from 2 m wide)
+    # a fragment yields no further than it had when it parted
+    cap = ties.band_plastic_cap(st)
+    assert np.all(st.plastic_strain.max(axis=1)[ratio < ties.DISTORTION_LIMIT]
+                  <= cap[ratio < ties.DISTORTION_LIMIT])
+    st, options = _slump()
+    monkeypatch.setattr(ties, "distorted_elements",
+                        lambda state, limit=0.0: ties.stable_step_ratio(state) < 0.0)
+    with ExplicitSolver(st, options) as solver, pytest.raises(RunUnstable, match="distorted"):
+        solver.run(until_time=3.0, until_rest=1e-4, check_every=50)

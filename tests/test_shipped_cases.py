@@ -3,9 +3,11 @@
 ``RunOptions.plastic_strain_cap`` (a Gauss point turns elastic beyond a plastic strain) and
 ``RunOptions.split_plastic_strain`` (bonds fail beyond a plastic strain) stay for experts; a
 shipped case relies instead on its materials: bonds fail by the strength criteria and where
-the material has softened to residual, and an element beside a failed bond yields up to its
-residual (``hybrid.discrete.ties.band_plastic_cap``). The cases that still set a knob are
-named here and in docs/hybrid.md with what they measure without it; the list may only shrink.
+the material has softened to residual, an element beside a failed bond yields up to its
+residual (``hybrid.discrete.ties.band_plastic_cap``), and an element distorted as far as an
+element can follow the flow parts from its neighbours (``ties.DISTORTION_LIMIT``). The cases
+that still set a knob are named here and in the docs with what they measure without it; the
+list may only shrink.
 """
 
 import ast
@@ -13,12 +15,9 @@ from pathlib import Path
 
 CASES = Path(__file__).resolve().parent.parent / "cases"
 EXPERT_OPTIONS = ("plastic_strain_cap", "split_plastic_strain")
-# knob-free not reached yet (docs/hybrid.md): H3's whole Rankine wedge yields to residual and,
-# elastic from there on beside its failed bonds (band_plastic_cap), gives way faster than the
-# yielding sand, so its failed zone falls well below 45 + phi/2; Carsington's thesis analysis
-# is perfectly plastic (Table 6.3: nothing softens to make its bonds fail where it flows; its
-# softening analysis, --set softening=true, sets no option)
-STILL_SET = {"retaining_wall_collapse", "carsington"}
+# knob-free not reached yet (docs/carsington.md): Carsington's thesis analysis (its softening
+# analysis, --set softening=true, sets no option)
+STILL_SET = {"carsington"}
 
 
 def _uses(path: Path) -> set[str]:

@@ -6,7 +6,8 @@ coincided then, so their separation is the slip (sliding and opening together).
 slope's crest and toe at the start of a run and measures how far they moved at its end;
 :class:`FootingMarks` does the same for a footing (settlement) and the ground beside it (heave);
 :func:`deposit` measures where a mass that spread over a floor came to rest;
-:func:`mean_displacement` is the mean movement of a set of elements.
+:func:`mean_displacement` is the mean movement of a set of elements; :func:`moving_zone_back`
+the inclination of the back of the zone that moved (an active wedge behind a wall).
 """
 
 from __future__ import annotations
@@ -22,7 +23,12 @@ from hybrid.io import Check
 
 __all__ = ["interface_slip", "slip_surface", "slip_trace", "slipped_interfaces", "SlipSurface",
            "SlopeMarks", "SlopeMovement", "FootingMarks", "Deposit", "deposit",
-           "mean_displacement"]
+           "mean_displacement", "moving_zone_back", "MOVING_FRACTION"]
+
+#: The zone that moves with a wall (or a slope face): elements that have moved at least this
+#: fraction of the face's own movement [-]. Small enough to reach the back of the slip, large
+#: enough to leave out the elastic and diffuse plastic straining behind it.
+MOVING_FRACTION = 0.05
 
 
 def interface_slip(state: DiscreteState) -> np.ndarray:
@@ -316,3 +322,29 @@ def mean_displacement(state: DiscreteState, elements: np.ndarray) -> tuple[float
     """
     u = (state.x - state.x_ref)[state.element_nodes[elements]]
     return float(np.mean(u[..., 0])), float(np.mean(u[..., 1]))
+
+
+def moving_zone_back(state: DiscreteState, elements: np.ndarray, height: float, size: float,
+                     moved: float) -> tuple[float, float]:
+    """Inclination [deg] and base intercept a [m] of the back of the zone moved >= ``moved`` [m].
+
+    The inclination is measured from the horizontal. At each level 0 <= y < ``height`` (bins
+    of ``size``, reference shape) the element of ``elements`` (mask) furthest along +x whose
+    centroid has moved ``moved`` or more; the least-squares line x = a + y cot(angle) through
+    them. The face is at x = 0 with the soil at x > 0 (the H3 wall). (nan, nan) with fewer than
+    three levels.
+    """
+    en = state.element_nodes[elements]
+    ref = state.x_ref[en].mean(axis=1)
+    shift = state.x[en].mean(axis=1) - ref
+    moving = np.hypot(shift[:, 0], shift[:, 1]) >= moved
+    ys, xs = [], []
+    for lo in np.arange(0.0, height, size):
+        pick = moving & (ref[:, 1] >= lo) & (ref[:, 1] < lo + size)
+        if pick.any():
+            ys.append(lo + 0.5 * size)
+            xs.append(float(ref[pick, 0].max()))
+    if len(ys) < 3:
+        return float("nan"), float("nan")
+    cot, a = np.polyfit(ys, xs, 1)
+    return float(np.degrees(np.arctan2(1.0, cot))), float(a)

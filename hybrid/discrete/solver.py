@@ -276,7 +276,8 @@ class ExplicitSolver:
         """Read what may have changed since the last run: loads, supports, masses, splits."""
         st = self.state
         self._external = bool(np.any(st.external_force))
-        self._point_cap = ties.band_plastic_cap(st, self._cap)
+        self._distorted = ties.distorted_elements(st)
+        self._point_cap = ties.band_plastic_cap(st, self._cap, self._distorted)
         self._n_failed = int(np.count_nonzero(~st.interface_intact))  # that the cap is of
         mass_tot = float(np.sum(st.mass))
         # floor of the contact search margin [m]
@@ -328,10 +329,14 @@ class ExplicitSolver:
             st.ledger[LEDGER_CONTACT_DAMPING] -= w_d
             st.ledger[LEDGER_CONTACT_NORMAL] -= w_all - w_t - w_d
         if self._split_every and st.step % self._split_every == 0:
-            modes = ties.check_interfaces(st, self._split_limit)
+            distorted = ties.distorted_elements(st)
+            modes = ties.check_interfaces(st, self._split_limit, distorted)
             if modes.any():
                 self.n_split += ties.split_interfaces(st, modes > 0)
-                self._point_cap = ties.band_plastic_cap(st, self._cap)
+            # a split, or an element newly distorted (a fragment may have no bond left)
+            if modes.any() or not np.array_equal(distorted, self._distorted):
+                self._distorted = distorted
+                self._point_cap = ties.band_plastic_cap(st, self._cap, distorted)
                 self._n_failed = int(np.count_nonzero(~st.interface_intact))
         self.steps += 1
 
@@ -464,7 +469,8 @@ class ExplicitSolver:
                         n_failed = self._n_failed
                         done = on_check(st)
                         if int(np.count_nonzero(~st.interface_intact)) != n_failed:
-                            self._point_cap = ties.band_plastic_cap(st, self._cap)  # it split
+                            self._point_cap = ties.band_plastic_cap(  # it split
+                                st, self._cap, self._distorted)
                         if done:
                             stop = "callback"
                             break
@@ -523,6 +529,10 @@ class ExplicitSolver:
         out["solver.options"] = np.array(settings_text(self.options))
         out["solver.numbers"] = np.array([self.steps, self.n_split, self.active_contacts,
                                           len(self._done)], dtype=np.int64)
+        # the elements' plastic caps as the last split check left them (they follow the
+        # distortion only at split checks, which a checkpoint may fall between)
+        out["solver.plastic_cap"] = self._point_cap.copy()
+        out["solver.distorted"] = self._distorted.copy()
         for i, (call, res) in enumerate(self._done):
             p = f"solver.done{i}."
             out[p + "call"] = np.array(call)
@@ -600,6 +610,9 @@ class ExplicitSolver:
             p = f"solver.obs{i}."
             obs.restore({k[len(p):]: v for k, v in extra.items() if k.startswith(p)})
         self._begin()
+        if "solver.plastic_cap" in extra:
+            self._point_cap = np.asarray(extra["solver.plastic_cap"], dtype=float)
+            self._distorted = np.asarray(extra["solver.distorted"], dtype=bool)
 
     @staticmethod
     def _check_call(saved: str, call: str) -> None:

@@ -20,9 +20,15 @@ Optionally (``split_plastic_strain``, an addition to the thesis) an interface al
 the mean accumulated plastic strain of those Gauss points exceeds the limit: inside a
 perfectly plastic element the stress is capped on the yield surface, so the traction on a mesh
 edge not aligned with the critical plane never reaches the bond strength, and a flowing region
-would otherwise distort its elements until they invert. A failed interface unties: the tie
-groups of the edge's two vertices are rebuilt as the connected components of the graph "node -
-intact interface - node" among the group's members.
+would otherwise distort its elements until they invert.
+An element also parts from all its neighbours when it has distorted as far as an element can
+follow the flow: when its stable time step (the smaller of the ratios of its least altitude
+and of sqrt(1 / longest edge) to their values at creation: ``stable_step_ratio``) has fallen
+below ``DISTORTION_LIMIT``. From then on it is a fragment that moves on contact and responds
+elastically (``band_plastic_cap``): a fragment flowing further inside would pancake and stop
+the explicit run. A failed interface unties: the tie groups of the edge's two vertices are
+rebuilt as the connected components of the graph "node - intact interface - node" among the
+group's members.
 """
 
 from __future__ import annotations
@@ -39,12 +45,20 @@ from hybrid.discrete.state import LEDGER_GROUPS, DiscreteState, groups_csr
 import numba  # isort: skip
 
 __all__ = ["check_interfaces", "split_interfaces", "limit_splitting", "FAIL_TENSION",
-           "FAIL_SHEAR", "FAIL_PLASTIC", "FAIL_SOFTENED", "band_plastic_cap"]
+           "FAIL_SHEAR", "FAIL_PLASTIC", "FAIL_SOFTENED", "FAIL_DISTORTED", "DISTORTION_LIMIT",
+           "stable_step_ratio", "distorted_elements", "band_plastic_cap"]
 
 FAIL_TENSION = 1
 FAIL_SHEAR = 2
 FAIL_PLASTIC = 3
 FAIL_SOFTENED = 4
+FAIL_DISTORTED = 5
+
+#: An element parts from its neighbours once its stable time step has fallen below this
+#: fraction of its value at creation [-]. The run's time step is at most half the smallest
+#: initial one (``RunOptions.safety`` = 0.5), so an element stopped here keeps a margin of
+#: half again over the time step for the elastic response of the fragment it becomes.
+DISTORTION_LIMIT = 0.75
 
 
 @numba.njit(cache=True, inline="always")
@@ -55,11 +69,41 @@ def _local_index(element_nodes, e, node):
     return -1
 
 
+@numba.njit(cache=True)
+def _step_bounds(x, element_nodes, e):
+    """(least altitude, longest edge) of element e: A / longest edge (Q4), 2 A / longest (T3).
+
+    The two lengths of its stable time step (``integrate.stable_time_step``).
+    """
+    nen = element_nodes.shape[1]
+    area = 0.0
+    lmax = 0.0
+    for a in range(nen):
+        i = element_nodes[e, a]
+        j = element_nodes[e, (a + 1) % nen]
+        area += 0.5 * (x[i, 0] * x[j, 1] - x[j, 0] * x[i, 1])
+        lmax = max(lmax, math.sqrt((x[j, 0] - x[i, 0]) ** 2 + (x[j, 1] - x[i, 1]) ** 2))
+    return (area if nen == 4 else 2.0 * area) / lmax, lmax
+
+
+@numba.njit(cache=True, parallel=True)
+def _stable_step_ratio_kernel(x, x_ref, element_nodes, out):
+    """out[e] = min(h(x) / h(x_ref), sqrt(L(x_ref) / L(x))): h least altitude, L longest edge."""
+    for e in numba.prange(element_nodes.shape[0]):
+        h, lmax = _step_bounds(x, element_nodes, e)
+        h0, lmax0 = _step_bounds(x_ref, element_nodes, e)
+        out[e] = min(h / h0, math.sqrt(lmax0 / lmax)) if h > 0.0 else 0.0
+
+
 @numba.njit(cache=True, parallel=True)
 def _failure_kernel(x, element_nodes, element_material, stress, interface_elements,
                     interface_nodes, interface_intact, interface_splittable, interface_table,
-                    material_table, element_length, plastic_strain, plastic_limit, out):
-    """out[i] = 0 (holds), 1 (tension), 2 (shear), 3 (plastic strain) or 4 (softened)."""
+                    material_table, element_length, plastic_strain, plastic_limit, distorted,
+                    out):
+    """out[i]: 0 holds, 1 tension, 2 shear, 3 plastic strain, 4 softened, 5 distorted.
+
+    Mode 5: an element beside the interface is ``distorted`` (``distorted_elements``).
+    """
     n_if = interface_elements.shape[0]
     ngp = stress.shape[1]
     for i in numba.prange(n_if):
@@ -125,24 +169,48 @@ def _failure_kernel(x, element_nodes, element_material, stress, interface_elemen
             out[i] = FAIL_SOFTENED
         elif eps_p / cnt > plastic_limit:
             out[i] = FAIL_PLASTIC
+        elif distorted[ea] or distorted[eb]:
+            out[i] = FAIL_DISTORTED
         else:
             out[i] = 0
 
 
-def check_interfaces(state: DiscreteState, split_plastic_strain: float = math.inf
-                     ) -> np.ndarray:
+def stable_step_ratio(state: DiscreteState, out: np.ndarray | None = None) -> np.ndarray:
+    """Each element's stable time step now over its value at creation (n_elements,) [-].
+
+    The smaller of h / h_ref and sqrt(L_ref / L) (h the least altitude, L the longest edge:
+    the mesh and the contact bounds of ``integrate.stable_time_step``); 1 for an undeformed
+    element, 0 for one turned inside out. ``out``: an array to write into.
+    """
+    if out is None:
+        out = np.empty(state.n_elements)
+    if state.n_elements:
+        _stable_step_ratio_kernel(state.x, state.x_ref, state.element_nodes, out)
+    return out
+
+
+def distorted_elements(state: DiscreteState, limit: float = DISTORTION_LIMIT) -> np.ndarray:
+    """Elements distorted as far as an element follows the flow: stable step ratio < limit."""
+    return stable_step_ratio(state) < limit
+
+
+def check_interfaces(state: DiscreteState, split_plastic_strain: float = math.inf,
+                     distorted: np.ndarray | None = None) -> np.ndarray:
     """Failure mode per interface (n_if,) int8.
 
     0 holds, 1 tension, 2 shear, 3 plastic strain above ``split_plastic_strain``, 4 the
-    material beside it softened to residual (see module).
+    material beside it softened to residual, 5 an element beside it distorted (see module).
+    ``distorted``: the elements' mask when already computed (``distorted_elements``).
     """
     out = np.zeros(state.interface_elements.shape[0], dtype=np.int8)
     if out.size:
+        if distorted is None:
+            distorted = distorted_elements(state)
         _failure_kernel(state.x, state.element_nodes, state.element_material, state.stress,
                         state.interface_elements, state.interface_nodes,
                         state.interface_intact, state.interface_splittable,
                         state.interface_table, state.material_table, state.element_length,
-                        state.plastic_strain, float(split_plastic_strain), out)
+                        state.plastic_strain, float(split_plastic_strain), distorted, out)
     return out
 
 
@@ -207,7 +275,8 @@ def split_interfaces(state: DiscreteState, failed) -> int:
     return int(idx.size)
 
 
-def band_plastic_cap(state: DiscreteState, cap: float = math.inf) -> np.ndarray:
+def band_plastic_cap(state: DiscreteState, cap: float = math.inf,
+                     distorted: np.ndarray | None = None) -> np.ndarray:
     """Plastic strain beyond which each element's Gauss points respond elastically [-].
 
     An element beside a failed interface, of a softening material, yields up to its residual
@@ -218,7 +287,10 @@ def band_plastic_cap(state: DiscreteState, cap: float = math.inf) -> np.ndarray:
     Munjiza 2004, combined finite-discrete elements whose bulk stays elastic): a band one
     element wide that went on flowing at residual would shear its elements inside out
     instead of sliding on the crack that its softening opened. Every other element yields
-    up to ``cap`` (``RunOptions.plastic_strain_cap``; inf: no limit). Returns (n_elements,).
+    up to ``cap`` (``RunOptions.plastic_strain_cap``; inf: no limit). A ``distorted``
+    element (``distorted_elements``, computed when None) yields no further than it has: it
+    has parted from its neighbours and is a fragment that responds elastically (see module).
+    Returns (n_elements,).
     """
     n_el = state.element_nodes.shape[0]
     out = np.full(n_el, float(cap))
@@ -228,6 +300,11 @@ def band_plastic_cap(state: DiscreteState, cap: float = math.inf) -> np.ndarray:
     band = beside & (u_r > 0.0)
     kappa_r = u_r[band] / (math.sqrt(3.0) * state.element_length[band])
     out[band] = np.minimum(out[band], kappa_r)
+    if distorted is None:
+        distorted = distorted_elements(state)
+    if state.plastic_strain.size:
+        reached = state.plastic_strain.max(axis=1)
+        out[distorted] = np.minimum(out[distorted], reached[distorted])
     return out
 
 
