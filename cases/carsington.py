@@ -13,7 +13,7 @@ Problem
     fill and the clays (thesis 6.3.1.1). Beyond the thesis (``softening``): the strengths fall
     to residual over a slip ``softening_displacement``, the fill to c = 0 and Table 6.2's
     phi_r, the phi = 0 clays to c_u tan(phi_r') / tan(phi') (the drained ratio, assumed to
-    hold undrained); the discrete phase then needs no expert option.
+    hold undrained). Neither analysis sets an expert option of the discrete phase.
 Set-up
     Base fixed, sides on vertical rollers. Stage 1: gravity on the foundation (key trench open),
     displacements zeroed. Stages 2-6: five lifts (``lift_tops``) placed stress-free, their
@@ -109,8 +109,6 @@ class Parameters(references.CarsingtonTable62, references.CarsingtonTable63):
     # discrete phase (post-failure)
     discrete_time: float = param(15.0, ge=0)  # at most, earlier at rest [s] (0: continuum only)
     region_layers: int = param(2, ge=0)  # growth of the splittable region around the yielded cells
-    split_plastic_strain: float = param(0.02, gt=0)  # bonds also fail beyond [-] (no softening)
-    plastic_strain_cap: float | None = param(2.0, gt=0)  # flow limit [-] (None; no softening)
     mass_damping: float = param(0.5, ge=0)  # mass damping alpha [1/s]
     contact_damping: float = param(0.2, ge=0, le=1)  # normal contact damping ratio [-]
     slip_min: float = param(0.1, gt=0)  # slip that puts a failed interface on the slip surface [m]
@@ -260,11 +258,8 @@ def main(out: str | Path = "results/carsington", **overrides) -> CaseSummary:
     disc.fix(np.unique(disc.element_nodes[group == "foundation"]))
     zone = g.zones(group, disc.element_centroids())
     slope = SlopeMarks.pick(disc, zone["embankment"], crest_x=g.crest_range)
-    # the thesis's perfectly plastic materials need the expert options; softening ones do not
-    expert = {} if p.softening else {"split_plastic_strain": p.split_plastic_strain,
-                                     "plastic_strain_cap": p.plastic_strain_cap}
     options = RunOptions(dt=0.5 * stable_time_step(disc, contact=True), split_every=10,
-                         mass_damping=p.mass_damping, **expert)
+                         mass_damping=p.mass_damping)
     run = run_to_rest(disc, out, options, until_time=p.discrete_time, rest=p.rest,
                       frames=p.frames, snapshot_times=(1.0, 3.0, 6.0, 10.0), window=g.window(True),
                       progress=p.progress)

@@ -12,7 +12,7 @@ import meshio
 import pytest
 from conftest import CASES, assert_bars
 
-from hybrid.errors import RunUnstable, StageIncomplete
+from hybrid.errors import StageIncomplete
 from hybrid.references import strip_footing_estimates
 
 
@@ -208,10 +208,10 @@ def test_footing_failure_collapse_load_triangles(case, tmp_path):
 
 
 @pytest.mark.slow
-@pytest.mark.xfail(strict=True, raises=RunUnstable, reason=(
-    "refined to 0.04 m, an element at the footing edge turns inside out under plastic flow "
-    "before any bond beside it has softened to residual (kappa_r = u_r / (sqrt(3) h) grows "
-    "as h shrinks), and the discrete run stops unstable"))
+@pytest.mark.xfail(strict=True, raises=AssertionError, reason=(
+    "both meshes reach rest, but the final settlement is 0.568 m on 0.04 m against 0.638 m "
+    "on 0.08 m (11 %) and the heave 0.298 m against 0.254 m (17 %): how far the punch runs "
+    "on while the load comes off depends on the mesh"))
 def test_footing_failure_discrete_measures_refined(case, tmp_path):
     """H2 to rest on the default mesh and its refinement (0.08 and 0.04 m at the footing
     edge): final settlement and heave beside the footing within 10 % of each other. 10 %:
