@@ -1,6 +1,8 @@
 """Measures of a discrete state (slip, slip surface, its trace, a slope's movement) and the
 snapshot figures of a run."""
 
+import math
+
 import numpy as np
 import pytest
 
@@ -11,6 +13,7 @@ from hybrid.discrete.measures import (
     SlopeMarks,
     interface_slip,
     mean_displacement,
+    moving_zone_back,
     slip_surface,
     slip_trace,
     slipped_interfaces,
@@ -119,3 +122,20 @@ def test_slope_marks_toe_crest_and_movement():
     assert ahead.movement(st).run_out == pytest.approx(-0.4)  # nothing moved towards +x
     with pytest.raises(ValueError, match="facing"):
         SlopeMarks.pick(st, np.ones(st.n_elements, bool), crest_x=(0.0, 1.0), facing=0)
+
+
+def test_moving_zone_back_finds_a_wedge_and_ignores_a_flung_fragment():
+    """A 60 deg wedge behind a face at x = 0 moved by 0.5 m, and one element far behind it
+    moved too: the back of the moving zone is the wedge's (within the 0.5 m bins: the line
+    through the last moving centroids of each level, 1.5 deg), the far element is not."""
+    st = rectangle(10.0, 10.0, 20, 20, material=ROCK)
+    c = st.element_centroids()
+    wedge = c[:, 0] < 1.0 + c[:, 1] / math.tan(math.radians(60.0))
+    far = np.flatnonzero((c[:, 0] > 8.0) & (c[:, 1] < 1.0))[:1]
+    for moved in (wedge, far):
+        nodes = np.unique(st.element_nodes[moved])
+        st.x[nodes, 0] -= 0.5
+    everything = np.ones(st.n_elements, dtype=bool)
+    angle, a = moving_zone_back(st, everything, 10.0, 0.5, 0.05)
+    assert abs(angle - 60.0) < 1.5 and abs(a - 1.0) < 0.5
+    assert np.isnan(moving_zone_back(st, everything, 10.0, 0.5, 1.0)[0])  # nothing moved 1 m

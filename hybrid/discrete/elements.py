@@ -177,6 +177,8 @@ def _point_update(stress, plastic_strain, yielded, e, gp, l12, l21, dexx, deyy, 
                                                 plastic_strain[e, gp], length)
         plastic_strain[e, gp] += dp
         yielded[e, gp] = yl
+    else:
+        yielded[e, gp] = 0
     stress[e, gp, 0] = sxx
     stress[e, gp, 1] = syy
     stress[e, gp, 2] = szz

@@ -328,11 +328,13 @@ def moving_zone_back(state: DiscreteState, elements: np.ndarray, height: float, 
                      moved: float) -> tuple[float, float]:
     """Inclination [deg] and base intercept a [m] of the back of the zone moved >= ``moved`` [m].
 
-    The inclination is measured from the horizontal. At each level 0 <= y < ``height`` (bins
-    of ``size``, reference shape) the element of ``elements`` (mask) furthest along +x whose
-    centroid has moved ``moved`` or more; the least-squares line x = a + y cot(angle) through
-    them. The face is at x = 0 with the soil at x > 0 (the H3 wall). (nan, nan) with fewer than
-    three levels.
+    The inclination is measured from the horizontal. The face is at x = 0 with the soil at
+    x > 0 (the H3 wall). At each level 0 <= y < ``height`` (bins of ``size``, reference shape)
+    the elements of ``elements`` (mask) are walked out from the face in order of their
+    reference centroids; the back of the zone is the last one whose centroid has moved
+    ``moved`` or more before the first that has not (so that a fragment flung beyond the
+    scarp does not count). The least-squares line x = a + y cot(angle) through them;
+    (nan, nan) with fewer than three levels.
     """
     en = state.element_nodes[elements]
     ref = state.x_ref[en].mean(axis=1)
@@ -340,10 +342,14 @@ def moving_zone_back(state: DiscreteState, elements: np.ndarray, height: float, 
     moving = np.hypot(shift[:, 0], shift[:, 1]) >= moved
     ys, xs = [], []
     for lo in np.arange(0.0, height, size):
-        pick = moving & (ref[:, 1] >= lo) & (ref[:, 1] < lo + size)
-        if pick.any():
-            ys.append(lo + 0.5 * size)
-            xs.append(float(ref[pick, 0].max()))
+        level = np.flatnonzero((ref[:, 1] >= lo) & (ref[:, 1] < lo + size) & (ref[:, 0] > 0.0))
+        level = level[np.argsort(ref[level, 0], kind="stable")]
+        if level.size == 0 or not moving[level[0]]:
+            continue
+        still = np.flatnonzero(~moving[level])
+        back = level[still[0] - 1] if still.size else level[-1]
+        ys.append(lo + 0.5 * size)
+        xs.append(float(ref[back, 0]))
     if len(ys) < 3:
         return float("nan"), float("nan")
     cot, a = np.polyfit(ys, xs, 1)

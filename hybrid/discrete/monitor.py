@@ -75,10 +75,9 @@ def _cause(state: DiscreteState, dt: float, contact: bool | None) -> str:
         crit = integrate.stable_time_step(state, contact=contact)
         if dt > crit:
             return (f"Cause: the elements have distorted so much that the stable time step fell "
-                    f"to {crit:.4g} s, below dt = {dt:.4g} s (give the flowing material a "
-                    "residual strength and a softening displacement so that its bonds fail "
-                    "where it flows; without softening, the expert options plastic_strain_cap "
-                    "and split_plastic_strain; or reduce dt).")
+                    f"to {crit:.4g} s, below dt = {dt:.4g} s (an element that cannot part "
+                    "from its neighbours: let the flowing region split, RunOptions(split_every"
+                    "=10) and its interfaces splittable; or reduce dt).")
     return (f"Likely cause: dt = {dt:.4g} s too large for the current mesh or contact "
             "stiffness (reduce dt or the safety factor), or an element inverted under a "
             "too large deformation.")
@@ -153,9 +152,10 @@ def check_distortion(state: DiscreteState, dt: float, contact: bool) -> None:
         raise RunUnstable(
             f"discrete run stopped at step {state.step} (t = {state.time:.6g} s): the elements "
             f"have distorted so much that the stable time step fell to {crit:.4g} s, below the "
-            f"run's dt = {dt:.4g} s (large plastic flow pancakes an element). Give the "
-            "flowing material a residual strength and a softening displacement (its bonds "
-            "then fail where it softens, and the elements beside them stop yielding), use "
-            "larger elements if its residual plastic strain u_r / (sqrt(3) h) is more than an "
-            "element can take, continue with a smaller dt (RunOptions(dt=...)), or, without "
-            "softening, use the expert options split_plastic_strain and plastic_strain_cap.")
+            f"run's dt = {dt:.4g} s (large plastic flow pancakes an element). A distorted "
+            "element parts from its neighbours at a splitting check (hybrid.discrete.ties."
+            "DISTORTION_LIMIT) only where splitting is on and its interfaces are splittable: "
+            "check RunOptions(split_every=...) (10 is typical; 0 turns splitting off) and the "
+            "region allowed to split (ties.limit_splitting), keep the time step at most half "
+            "the stable one (RunOptions(safety=0.5) or a dt that small), or continue with a "
+            "smaller dt.")

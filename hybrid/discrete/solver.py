@@ -276,8 +276,7 @@ class ExplicitSolver:
         """Read what may have changed since the last run: loads, supports, masses, splits."""
         st = self.state
         self._external = bool(np.any(st.external_force))
-        self._distorted = ties.distorted_elements(st)
-        self._point_cap = ties.band_plastic_cap(st, self._cap, self._distorted)
+        self._point_cap = ties.band_plastic_cap(st, self._cap)
         self._n_failed = int(np.count_nonzero(~st.interface_intact))  # that the cap is of
         mass_tot = float(np.sum(st.mass))
         # floor of the contact search margin [m]
@@ -329,14 +328,13 @@ class ExplicitSolver:
             st.ledger[LEDGER_CONTACT_DAMPING] -= w_d
             st.ledger[LEDGER_CONTACT_NORMAL] -= w_all - w_t - w_d
         if self._split_every and st.step % self._split_every == 0:
-            distorted = ties.distorted_elements(st)
-            modes = ties.check_interfaces(st, self._split_limit, distorted)
+            new_fragments = ties.mark_fragments(st)
+            modes = ties.check_interfaces(st, self._split_limit)
             if modes.any():
                 self.n_split += ties.split_interfaces(st, modes > 0)
-            # a split, or an element newly distorted (a fragment may have no bond left)
-            if modes.any() or not np.array_equal(distorted, self._distorted):
-                self._distorted = distorted
-                self._point_cap = ties.band_plastic_cap(st, self._cap, distorted)
+            # a split, or a new fragment (it may have no bond left to split)
+            if modes.any() or new_fragments:
+                self._point_cap = ties.band_plastic_cap(st, self._cap)
                 self._n_failed = int(np.count_nonzero(~st.interface_intact))
         self.steps += 1
 
@@ -469,8 +467,8 @@ class ExplicitSolver:
                         n_failed = self._n_failed
                         done = on_check(st)
                         if int(np.count_nonzero(~st.interface_intact)) != n_failed:
-                            self._point_cap = ties.band_plastic_cap(  # it split
-                                st, self._cap, self._distorted)
+                            self._point_cap = ties.band_plastic_cap(st, self._cap)  # split
+                            self._n_failed = int(np.count_nonzero(~st.interface_intact))
                         if done:
                             stop = "callback"
                             break
@@ -529,10 +527,6 @@ class ExplicitSolver:
         out["solver.options"] = np.array(settings_text(self.options))
         out["solver.numbers"] = np.array([self.steps, self.n_split, self.active_contacts,
                                           len(self._done)], dtype=np.int64)
-        # the elements' plastic caps as the last split check left them (they follow the
-        # distortion only at split checks, which a checkpoint may fall between)
-        out["solver.plastic_cap"] = self._point_cap.copy()
-        out["solver.distorted"] = self._distorted.copy()
         for i, (call, res) in enumerate(self._done):
             p = f"solver.done{i}."
             out[p + "call"] = np.array(call)
@@ -566,6 +560,9 @@ class ExplicitSolver:
             raise ValueError(f"checkpoint {path} holds {fields_['x'].shape[0]} nodes and "
                              f"{fields_['element_nodes'].shape[0]} elements, the solver's state "
                              f"{st.n_nodes} and {st.n_elements}: a checkpoint of another model")
+        if "fragment" not in fields_:
+            raise ValueError(f"checkpoint {path} was written by an older version of hybrid "
+                             "(its elements carry no fragment flags): rerun without --resume")
         if "solver.numbers" not in extra:
             raise ValueError(f"checkpoint {path} holds a state only (DiscreteState.save): "
                              "load it with DiscreteState.load and start a new solver on it")
@@ -610,9 +607,6 @@ class ExplicitSolver:
             p = f"solver.obs{i}."
             obs.restore({k[len(p):]: v for k, v in extra.items() if k.startswith(p)})
         self._begin()
-        if "solver.plastic_cap" in extra:
-            self._point_cap = np.asarray(extra["solver.plastic_cap"], dtype=float)
-            self._distorted = np.asarray(extra["solver.distorted"], dtype=bool)
 
     @staticmethod
     def _check_call(saved: str, call: str) -> None:

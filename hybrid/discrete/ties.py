@@ -21,14 +21,15 @@ the mean accumulated plastic strain of those Gauss points exceeds the limit: ins
 perfectly plastic element the stress is capped on the yield surface, so the traction on a mesh
 edge not aligned with the critical plane never reaches the bond strength, and a flowing region
 would otherwise distort its elements until they invert.
-An element also parts from all its neighbours when it has distorted as far as an element can
+An element also parts from its neighbours when it has distorted as far as an element can
 follow the flow: when its stable time step (the smaller of the ratios of its least altitude
 and of sqrt(1 / longest edge) to their values at creation: ``stable_step_ratio``) has fallen
-below ``DISTORTION_LIMIT``. From then on it is a fragment that moves on contact and responds
-elastically (``band_plastic_cap``): a fragment flowing further inside would pancake and stop
-the explicit run. A failed interface unties: the tie groups of the edge's two vertices are
-rebuilt as the connected components of the graph "node - intact interface - node" among the
-group's members.
+below ``DISTORTION_LIMIT`` at a splitting check, it becomes a fragment for good
+(``DiscreteState.fragment``, ``mark_fragments``): its splittable bonds fail and it responds
+elastically at every Gauss point (``band_plastic_cap``), since a fragment flowing further
+inside would pancake and stop the explicit run. A failed interface unties: the tie groups
+of the edge's two vertices are rebuilt as the connected components of the graph "node -
+intact interface - node" among the group's members.
 """
 
 from __future__ import annotations
@@ -46,7 +47,7 @@ import numba  # isort: skip
 
 __all__ = ["check_interfaces", "split_interfaces", "limit_splitting", "FAIL_TENSION",
            "FAIL_SHEAR", "FAIL_PLASTIC", "FAIL_SOFTENED", "FAIL_DISTORTED", "DISTORTION_LIMIT",
-           "stable_step_ratio", "distorted_elements", "band_plastic_cap"]
+           "stable_step_ratio", "mark_fragments", "band_plastic_cap"]
 
 FAIL_TENSION = 1
 FAIL_SHEAR = 2
@@ -55,9 +56,11 @@ FAIL_SOFTENED = 4
 FAIL_DISTORTED = 5
 
 #: An element parts from its neighbours once its stable time step has fallen below this
-#: fraction of its value at creation [-]. The run's time step is at most half the smallest
-#: initial one (``RunOptions.safety`` = 0.5), so an element stopped here keeps a margin of
-#: half again over the time step for the elastic response of the fragment it becomes.
+#: fraction of its value at creation [-]. With the run's time step half the smallest initial
+#: one (``RunOptions.safety`` = 0.5, the default) an element stopped here keeps a margin of
+#: half again over the time step for the elastic response of the fragment it becomes (a
+#: safety above the limit lets the smallest elements reach the run's step first: the run
+#: then stops as distorted, ``monitor.check_distortion``).
 DISTORTION_LIMIT = 0.75
 
 
@@ -87,9 +90,21 @@ def _step_bounds(x, element_nodes, e):
 
 
 @numba.njit(cache=True, parallel=True)
-def _stable_step_ratio_kernel(x, x_ref, element_nodes, out):
-    """out[e] = min(h(x) / h(x_ref), sqrt(L(x_ref) / L(x))): h least altitude, L longest edge."""
+def _stable_step_ratio_kernel(x, x_ref, element_nodes, fixed, out):
+    """out[e] = min(h(x) / h(x_ref), sqrt(L(x_ref) / L(x))): h least altitude, L longest edge.
+
+    1 for an element whose nodes are all held (it does not move; ``integrate._critical_dt``
+    leaves it out too).
+    """
+    nen = element_nodes.shape[1]
     for e in numba.prange(element_nodes.shape[0]):
+        held = True
+        for a in range(nen):
+            i = element_nodes[e, a]
+            held = held and fixed[i, 0] and fixed[i, 1]
+        if held:
+            out[e] = 1.0
+            continue
         h, lmax = _step_bounds(x, element_nodes, e)
         h0, lmax0 = _step_bounds(x_ref, element_nodes, e)
         out[e] = min(h / h0, math.sqrt(lmax0 / lmax)) if h > 0.0 else 0.0
@@ -98,11 +113,11 @@ def _stable_step_ratio_kernel(x, x_ref, element_nodes, out):
 @numba.njit(cache=True, parallel=True)
 def _failure_kernel(x, element_nodes, element_material, stress, interface_elements,
                     interface_nodes, interface_intact, interface_splittable, interface_table,
-                    material_table, element_length, plastic_strain, plastic_limit, distorted,
+                    material_table, element_length, plastic_strain, plastic_limit, fragment,
                     out):
     """out[i]: 0 holds, 1 tension, 2 shear, 3 plastic strain, 4 softened, 5 distorted.
 
-    Mode 5: an element beside the interface is ``distorted`` (``distorted_elements``).
+    Mode 5: an element beside the interface is a ``fragment`` (``mark_fragments``).
     """
     n_if = interface_elements.shape[0]
     ngp = stress.shape[1]
@@ -169,48 +184,50 @@ def _failure_kernel(x, element_nodes, element_material, stress, interface_elemen
             out[i] = FAIL_SOFTENED
         elif eps_p / cnt > plastic_limit:
             out[i] = FAIL_PLASTIC
-        elif distorted[ea] or distorted[eb]:
+        elif fragment[ea] or fragment[eb]:
             out[i] = FAIL_DISTORTED
         else:
             out[i] = 0
 
 
-def stable_step_ratio(state: DiscreteState, out: np.ndarray | None = None) -> np.ndarray:
+def stable_step_ratio(state: DiscreteState) -> np.ndarray:
     """Each element's stable time step now over its value at creation (n_elements,) [-].
 
     The smaller of h / h_ref and sqrt(L_ref / L) (h the least altitude, L the longest edge:
     the mesh and the contact bounds of ``integrate.stable_time_step``); 1 for an undeformed
-    element, 0 for one turned inside out. ``out``: an array to write into.
+    element or one whose nodes are all held, 0 for one turned inside out.
     """
-    if out is None:
-        out = np.empty(state.n_elements)
+    out = np.ones(state.n_elements)
     if state.n_elements:
-        _stable_step_ratio_kernel(state.x, state.x_ref, state.element_nodes, out)
+        _stable_step_ratio_kernel(state.x, state.x_ref, state.element_nodes, state.fixed, out)
     return out
 
 
-def distorted_elements(state: DiscreteState, limit: float = DISTORTION_LIMIT) -> np.ndarray:
-    """Elements distorted as far as an element follows the flow: stable step ratio < limit."""
-    return stable_step_ratio(state) < limit
+def mark_fragments(state: DiscreteState, limit: float = DISTORTION_LIMIT) -> int:
+    """Make fragments of the elements distorted beyond ``limit`` (stable step ratio below it).
+
+    ``state.fragment`` only grows: a fragment stays one. Returns how many became fragments.
+    """
+    new = (stable_step_ratio(state) < limit) & ~state.fragment
+    state.fragment |= new
+    return int(new.sum())
 
 
-def check_interfaces(state: DiscreteState, split_plastic_strain: float = math.inf,
-                     distorted: np.ndarray | None = None) -> np.ndarray:
+def check_interfaces(state: DiscreteState, split_plastic_strain: float = math.inf
+                     ) -> np.ndarray:
     """Failure mode per interface (n_if,) int8.
 
     0 holds, 1 tension, 2 shear, 3 plastic strain above ``split_plastic_strain``, 4 the
-    material beside it softened to residual, 5 an element beside it distorted (see module).
-    ``distorted``: the elements' mask when already computed (``distorted_elements``).
+    material beside it softened to residual, 5 an element beside it is a fragment (see
+    module).
     """
     out = np.zeros(state.interface_elements.shape[0], dtype=np.int8)
     if out.size:
-        if distorted is None:
-            distorted = distorted_elements(state)
         _failure_kernel(state.x, state.element_nodes, state.element_material, state.stress,
                         state.interface_elements, state.interface_nodes,
                         state.interface_intact, state.interface_splittable,
                         state.interface_table, state.material_table, state.element_length,
-                        state.plastic_strain, float(split_plastic_strain), distorted, out)
+                        state.plastic_strain, float(split_plastic_strain), state.fragment, out)
     return out
 
 
@@ -275,8 +292,7 @@ def split_interfaces(state: DiscreteState, failed) -> int:
     return int(idx.size)
 
 
-def band_plastic_cap(state: DiscreteState, cap: float = math.inf,
-                     distorted: np.ndarray | None = None) -> np.ndarray:
+def band_plastic_cap(state: DiscreteState, cap: float = math.inf) -> np.ndarray:
     """Plastic strain beyond which each element's Gauss points respond elastically [-].
 
     An element beside a failed interface, of a softening material, yields up to its residual
@@ -287,9 +303,8 @@ def band_plastic_cap(state: DiscreteState, cap: float = math.inf,
     Munjiza 2004, combined finite-discrete elements whose bulk stays elastic): a band one
     element wide that went on flowing at residual would shear its elements inside out
     instead of sliding on the crack that its softening opened. Every other element yields
-    up to ``cap`` (``RunOptions.plastic_strain_cap``; inf: no limit). A ``distorted``
-    element (``distorted_elements``, computed when None) yields no further than it has: it
-    has parted from its neighbours and is a fragment that responds elastically (see module).
+    up to ``cap`` (``RunOptions.plastic_strain_cap``; inf: no limit). A fragment
+    (``state.fragment``) gets 0: it responds elastically at every point (see module).
     Returns (n_elements,).
     """
     n_el = state.element_nodes.shape[0]
@@ -300,11 +315,7 @@ def band_plastic_cap(state: DiscreteState, cap: float = math.inf,
     band = beside & (u_r > 0.0)
     kappa_r = u_r[band] / (math.sqrt(3.0) * state.element_length[band])
     out[band] = np.minimum(out[band], kappa_r)
-    if distorted is None:
-        distorted = distorted_elements(state)
-    if state.plastic_strain.size:
-        reached = state.plastic_strain.max(axis=1)
-        out[distorted] = np.minimum(out[distorted], reached[distorted])
+    out[state.fragment] = 0.0
     return out
 
 
