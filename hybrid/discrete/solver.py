@@ -560,7 +560,7 @@ class ExplicitSolver:
             raise ValueError(f"checkpoint {path} holds {fields_['x'].shape[0]} nodes and "
                              f"{fields_['element_nodes'].shape[0]} elements, the solver's state "
                              f"{st.n_nodes} and {st.n_elements}: a checkpoint of another model")
-        if "fragment" not in fields_:
+        if "fragment_cap" not in fields_:
             raise ValueError(f"checkpoint {path} was written by an older version of hybrid "
                              "(its elements carry no fragment flags): rerun without --resume")
         if "solver.numbers" not in extra:

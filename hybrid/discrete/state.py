@@ -127,9 +127,10 @@ class DiscreteState:
     #     group whatever splits (``tie_rigidly``: a rigid, non-rotating platen such as a footing)
     element_length: np.ndarray = MADE_ON_CREATION  # (n_elements,) crack-band width of each
     #     element at creation [m] (sqrt(A) Q4, sqrt(2 A) T3), the length of strain softening
-    fragment: np.ndarray = MADE_ON_CREATION  # (n_elements,) bool, True once the element has
-    #     distorted as far as an element follows the flow: its splittable bonds fail and it
-    #     responds elastically from then on (``ties.DISTORTION_LIMIT``); never reset
+    fragment_cap: np.ndarray = MADE_ON_CREATION  # (n_elements,) plastic strain beyond which a
+    #     fragment responds elastically [-]: inf until the element has distorted as far as an
+    #     element follows the flow, then the largest plastic strain of its points at that
+    #     moment, for good; its splittable bonds fail (``ties.DISTORTION_LIMIT``)
 
     def __post_init__(self) -> None:
         n = self.x.shape[0]
@@ -150,8 +151,8 @@ class DiscreteState:
             self.rigid_links = np.zeros((0, 2), dtype=np.int64)
         if self.element_length is None:
             self.element_length = characteristic_length(self.x_ref, self.element_nodes)
-        if self.fragment is None:
-            self.fragment = np.zeros(self.element_nodes.shape[0], dtype=bool)
+        if self.fragment_cap is None:
+            self.fragment_cap = np.full(self.element_nodes.shape[0], np.inf)
         if self.material_table.ndim != 2 or self.material_table.shape[1] != TABLE_WIDTH:
             raise ValueError(f"material_table has shape {self.material_table.shape}; need "
                              f"(n_mat, {TABLE_WIDTH}) rows from kernel_table (a checkpoint "
@@ -295,7 +296,7 @@ _LAYOUT: dict[str, tuple[str, tuple[str | int, ...]]] = {
     "group_energy": ("f8", ("S", 4)), "ledger": ("f8", (8,)),
     "contact_pairs": ("i8", ("P", 2)), "contact_shear": ("f8", ("P", 2)),
     "primed": ("b1", ()), "dt": ("f8", ()), "rigid_links": ("i8", ("L", 2)),
-    "element_length": ("f8", ("E",)), "fragment": ("b1", ("E",)),
+    "element_length": ("f8", ("E",)), "fragment_cap": ("f8", ("E",)),
 }
 #: index arrays and the size their entries index
 _INDEX_RANGE = {"element_nodes": "N", "element_material": "M", "node_group": "S",

@@ -25,11 +25,11 @@ An element also parts from its neighbours when it has distorted as far as an ele
 follow the flow: when its stable time step (the smaller of the ratios of its least altitude
 and of sqrt(1 / longest edge) to their values at creation: ``stable_step_ratio``) has fallen
 below ``DISTORTION_LIMIT`` at a splitting check, it becomes a fragment for good
-(``DiscreteState.fragment``, ``mark_fragments``): its splittable bonds fail and it responds
-elastically at every Gauss point (``band_plastic_cap``), since a fragment flowing further
-inside would pancake and stop the explicit run. A failed interface unties: the tie groups
-of the edge's two vertices are rebuilt as the connected components of the graph "node -
-intact interface - node" among the group's members.
+(``DiscreteState.fragment_cap``, ``mark_fragments``): its splittable bonds fail and its
+points yield no further than its most strained one had then (``band_plastic_cap``), since a
+fragment flowing further inside would pancake and stop the explicit run. A failed interface
+unties: the tie groups of the edge's two vertices are rebuilt as the connected components of
+the graph "node - intact interface - node" among the group's members.
 """
 
 from __future__ import annotations
@@ -117,7 +117,7 @@ def _failure_kernel(x, element_nodes, element_material, stress, interface_elemen
                     out):
     """out[i]: 0 holds, 1 tension, 2 shear, 3 plastic strain, 4 softened, 5 distorted.
 
-    Mode 5: an element beside the interface is a ``fragment`` (``mark_fragments``).
+    Mode 5: an element beside the interface is a fragment (``mark_fragments``).
     """
     n_if = interface_elements.shape[0]
     ngp = stress.shape[1]
@@ -206,10 +206,12 @@ def stable_step_ratio(state: DiscreteState) -> np.ndarray:
 def mark_fragments(state: DiscreteState, limit: float = DISTORTION_LIMIT) -> int:
     """Make fragments of the elements distorted beyond ``limit`` (stable step ratio below it).
 
-    ``state.fragment`` only grows: a fragment stays one. Returns how many became fragments.
+    A new fragment's ``state.fragment_cap`` is the largest plastic strain of its points now;
+    a fragment stays one with that cap. Returns how many became fragments.
     """
-    new = (stable_step_ratio(state) < limit) & ~state.fragment
-    state.fragment |= new
+    new = (stable_step_ratio(state) < limit) & np.isinf(state.fragment_cap)
+    if new.any():
+        state.fragment_cap[new] = state.plastic_strain[new].max(axis=1)
     return int(new.sum())
 
 
@@ -227,7 +229,8 @@ def check_interfaces(state: DiscreteState, split_plastic_strain: float = math.in
                         state.interface_elements, state.interface_nodes,
                         state.interface_intact, state.interface_splittable,
                         state.interface_table, state.material_table, state.element_length,
-                        state.plastic_strain, float(split_plastic_strain), state.fragment, out)
+                        state.plastic_strain, float(split_plastic_strain),
+                        np.isfinite(state.fragment_cap), out)
     return out
 
 
@@ -303,9 +306,8 @@ def band_plastic_cap(state: DiscreteState, cap: float = math.inf) -> np.ndarray:
     Munjiza 2004, combined finite-discrete elements whose bulk stays elastic): a band one
     element wide that went on flowing at residual would shear its elements inside out
     instead of sliding on the crack that its softening opened. Every other element yields
-    up to ``cap`` (``RunOptions.plastic_strain_cap``; inf: no limit). A fragment
-    (``state.fragment``) gets 0: it responds elastically at every point (see module).
-    Returns (n_elements,).
+    up to ``cap`` (``RunOptions.plastic_strain_cap``; inf: no limit). A fragment yields up to
+    its ``state.fragment_cap`` (see module). Returns (n_elements,).
     """
     n_el = state.element_nodes.shape[0]
     out = np.full(n_el, float(cap))
@@ -315,8 +317,7 @@ def band_plastic_cap(state: DiscreteState, cap: float = math.inf) -> np.ndarray:
     band = beside & (u_r > 0.0)
     kappa_r = u_r[band] / (math.sqrt(3.0) * state.element_length[band])
     out[band] = np.minimum(out[band], kappa_r)
-    out[state.fragment] = 0.0
-    return out
+    return np.minimum(out, state.fragment_cap)
 
 
 def limit_splitting(state: DiscreteState, elements) -> int:
