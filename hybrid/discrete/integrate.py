@@ -110,6 +110,23 @@ def _group_update(group_ptr, group_nodes, group_mass, internal_force, contact_fo
 
 
 @numba.njit(cache=True)
+def step_lengths(x, element_nodes, e):
+    """(least altitude, longest edge) of element e: A / longest edge (Q4), 2 A / longest (T3).
+
+    The lengths of its stable time step (``stable_time_step``).
+    """
+    nen = element_nodes.shape[1]
+    area = 0.0
+    lmax = 0.0
+    for a in range(nen):
+        i = element_nodes[e, a]
+        j = element_nodes[e, (a + 1) % nen]
+        area += 0.5 * (x[i, 0] * x[j, 1] - x[j, 0] * x[i, 1])
+        lmax = max(lmax, math.sqrt((x[j, 0] - x[i, 0]) ** 2 + (x[j, 1] - x[i, 1]) ** 2))
+    return (area if nen == 4 else 2.0 * area) / lmax, lmax
+
+
+@numba.njit(cache=True)
 def _critical_dt(x, element_nodes, element_material, material_table, density, contact_table,
                  mass, with_contact, fixed):
     """Critical time step: the minimum over elements of L_min / c_p.
@@ -129,19 +146,12 @@ def _critical_dt(x, element_nodes, element_material, material_table, density, co
             held = held and fixed[i, 0] and fixed[i, 1]
         if held:
             continue
-        area = 0.0
-        lmax = 0.0
+        lmin, lmax = step_lengths(x, element_nodes, e)
         me = 0.0
         for a in range(nen):
-            i = element_nodes[e, a]
-            j = element_nodes[e, (a + 1) % nen]
-            area += 0.5 * (x[i, 0] * x[j, 1] - x[j, 0] * x[i, 1])
-            ln = math.sqrt((x[j, 0] - x[i, 0]) ** 2 + (x[j, 1] - x[i, 1]) ** 2)
-            lmax = max(lmax, ln)
-            me += mass[i]
+            me += mass[element_nodes[e, a]]
         m = element_material[e]
         cp = math.sqrt((material_table[m, 0] + 4.0 * material_table[m, 1] / 3.0) / density[m])
-        lmin = area / lmax if nen == 4 else 2.0 * area / lmax
         best = min(best, lmin / cp)
         if with_contact:
             best = min(best, math.sqrt(me / (contact_table[m, 0] * lmax)))

@@ -41,6 +41,7 @@ import numpy as np
 import hybrid  # noqa: F401
 from hybrid.constitutive.softening import softening_fraction
 from hybrid.constitutive.table import SOFTENING_DISPLACEMENT
+from hybrid.discrete.integrate import step_lengths
 from hybrid.discrete.state import LEDGER_GROUPS, DiscreteState, groups_csr
 
 import numba  # isort: skip
@@ -72,23 +73,6 @@ def _local_index(element_nodes, e, node):
     return -1
 
 
-@numba.njit(cache=True)
-def _step_bounds(x, element_nodes, e):
-    """(least altitude, longest edge) of element e: A / longest edge (Q4), 2 A / longest (T3).
-
-    The two lengths of its stable time step (``integrate.stable_time_step``).
-    """
-    nen = element_nodes.shape[1]
-    area = 0.0
-    lmax = 0.0
-    for a in range(nen):
-        i = element_nodes[e, a]
-        j = element_nodes[e, (a + 1) % nen]
-        area += 0.5 * (x[i, 0] * x[j, 1] - x[j, 0] * x[i, 1])
-        lmax = max(lmax, math.sqrt((x[j, 0] - x[i, 0]) ** 2 + (x[j, 1] - x[i, 1]) ** 2))
-    return (area if nen == 4 else 2.0 * area) / lmax, lmax
-
-
 @numba.njit(cache=True, parallel=True)
 def _stable_step_ratio_kernel(x, x_ref, element_nodes, fixed, out):
     """out[e] = min(h(x) / h(x_ref), sqrt(L(x_ref) / L(x))): h least altitude, L longest edge.
@@ -105,8 +89,8 @@ def _stable_step_ratio_kernel(x, x_ref, element_nodes, fixed, out):
         if held:
             out[e] = 1.0
             continue
-        h, lmax = _step_bounds(x, element_nodes, e)
-        h0, lmax0 = _step_bounds(x_ref, element_nodes, e)
+        h, lmax = step_lengths(x, element_nodes, e)
+        h0, lmax0 = step_lengths(x_ref, element_nodes, e)
         out[e] = min(h / h0, math.sqrt(lmax0 / lmax)) if h > 0.0 else 0.0
 
 
