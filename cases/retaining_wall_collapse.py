@@ -24,12 +24,14 @@ Set-up
     3. Discrete: the wall is removed (its nodes released) and the backfill is followed until
        rest. The sand is perfectly plastic and sets no expert option: its bonds fail in
        tension, and an element that has distorted as far as an element can follow the flow
-       parts from its neighbours and goes on as an elastic fragment
+       parts from its neighbours and goes on as a fragment that yields no further
        (``hybrid.discrete.ties.DISTORTION_LIMIT``).
 Verification
-    Wedge angle: the back of the zone that moves (at each level of the backfill the element
-    furthest from the wall that has moved ``MOVING_FRACTION`` = 5 % of the face top's
-    movement, reference shape) is fitted with a straight line; its inclination when the top
+    Wedge angle: the back of the zone that moves (at each level of the backfill, walking out
+    from the wall, the last element that has moved ``MOVING_FRACTION`` = 5 % of the face
+    top's movement before the first that has not; reference shape:
+    ``hybrid.discrete.measures.moving_zone_back``) is fitted with a straight line; its
+    inclination when the top
     of the wall face has moved ``wedge_at`` = 0.1 H is compared with 45 + phi/2 = 60 deg (bar
     5 deg). The same fit at 0.01 H ... 0.2 H of movement and at rest is reported: the scarp
     retreats and flattens as the debris runs out. The run must

@@ -110,6 +110,16 @@ def _group_update(group_ptr, group_nodes, group_mass, internal_force, contact_fo
 
 
 @numba.njit(cache=True)
+def element_held(element_nodes, fixed, e):
+    """True when every node of element e is held in both directions (it does not move)."""
+    held = True
+    for a in range(element_nodes.shape[1]):
+        i = element_nodes[e, a]
+        held = held and fixed[i, 0] and fixed[i, 1]
+    return held
+
+
+@numba.njit(cache=True)
 def step_lengths(x, element_nodes, e):
     """(least altitude, longest edge) of element e: A / longest edge (Q4), 2 A / longest (T3).
 
@@ -140,11 +150,7 @@ def _critical_dt(x, element_nodes, element_material, material_table, density, co
     nen = element_nodes.shape[1]
     best = np.inf
     for e in range(ne):
-        held = True
-        for a in range(nen):
-            i = element_nodes[e, a]
-            held = held and fixed[i, 0] and fixed[i, 1]
-        if held:
+        if element_held(element_nodes, fixed, e):
             continue
         lmin, lmax = step_lengths(x, element_nodes, e)
         me = 0.0
