@@ -39,7 +39,11 @@ def _element_boxes(x, element_nodes, margin, boxes):
 def _is_candidate(i, j, boxes, element_nodes, node_group, max_shared):
     """True when the boxes of i and j overlap (inclusive) and the elements share few ties.
 
-    The elements may share at most ``max_shared`` tie groups.
+    The elements may share at most ``max_shared`` distinct tie groups. Distinct: a group
+    that holds several nodes of one element (a rigid platen, ``DiscreteState.tie_rigidly``)
+    is one tie, so two elements that each touch the platen, at one vertex or along an edge,
+    share one group and stay candidates; counted per node they would share two and could
+    interpenetrate without contact force.
     """
     if boxes[i, 0] > boxes[j, 2] or boxes[j, 0] > boxes[i, 2]:
         return False
@@ -49,6 +53,13 @@ def _is_candidate(i, j, boxes, element_nodes, node_group, max_shared):
     shared = 0
     for ka in range(nen):
         ga = node_group[element_nodes[i, ka]]
+        seen = False  # ga already counted at an earlier node of i
+        for kp in range(ka):
+            if node_group[element_nodes[i, kp]] == ga:
+                seen = True
+                break
+        if seen:
+            continue
         for kb in range(nen):
             if node_group[element_nodes[j, kb]] == ga:
                 shared += 1
@@ -180,10 +191,12 @@ def find_contact_pairs(
     Elements i, j are candidates when their boxes grown by ``margin`` [m] overlap and no node
     of i shares a tie group (``node_group``) with a node of j.  With ``hinges=True`` pairs
     that share exactly one tie group are candidates too (only pairs tied at two or more
-    vertices, i.e. along an edge, are left out): two elements whose common edge has failed
-    but that are still tied at one end (the other interfaces around that vertex hold) rotate
-    about that vertex and would otherwise interpenetrate with no contact force, and enter
-    contact with a deep overlap (a large energy kick) once the last tie goes.  Elements of a
+    vertices, i.e. along an edge, are left out; the groups are counted distinct, so a rigid
+    platen's group holding several nodes of an element is one tie): two elements whose
+    common edge has failed but that are still tied at one end (the other interfaces around
+    that vertex hold, or both touch a rigid platen) rotate about that vertex and would
+    otherwise interpenetrate with no contact force, and enter contact with a deep overlap
+    (a large energy kick) once the last tie goes.  Elements of a
     conforming patch that share one vertex (diagonal neighbours) cannot overlap while the
     patch is tied, so including them costs only a box test.  Uniform grid broad phase:
     elements are count-sorted into cells by their box centre, the cell size is the largest
