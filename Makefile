@@ -74,6 +74,10 @@ docs: setup
 	    $(PY) -m hybrid run cases/carsington.py --out $(DOCS_RUN)/carsington_$$1 --overwrite \
 	    --set progress=false --set safety=false --set softening=true \
 	    --set softening_displacement=$$2 --set size=$$3 || [ $$? -eq 4 ] || exit 1; done
+	# the discrete phase's sensitivity to mass damping (default none; the thesis ran 3 /s)
+	for md in 0.5 3; do $(PY) -m hybrid run cases/carsington.py \
+	    --out $(DOCS_RUN)/carsington_damping$$md --overwrite --set progress=false \
+	    --set safety=false --set mass_damping=$$md || [ $$? -eq 4 ] || exit 1; done
 	# H2's mesh sensitivity (docs/hybrid.md): every mesh followed to rest; a discrete run that
 	# stops unstable (exit 3) is reported as such (docs/summaries/h2_*.unstable.txt, its
 	# message) beside the mesh's continuum summary
@@ -100,7 +104,8 @@ docs: setup
 	for c in h2_fine0.16 h2_fine0.12 h2_fine0.04 h2_structured; do \
 	    cp $(DOCS_RUN)/$$c/summary.json docs/summaries/$$c.json; done
 	for c in h2 h3 d10 carsington carsington_last_lift carsington_softening \
-	    carsington_softening_ur0.2 carsington_softening_ur1 carsington_softening_size4; do \
+	    carsington_softening_ur0.2 carsington_softening_ur1 carsington_softening_size4 \
+	    carsington_damping0.5 carsington_damping3; do \
 	    cp $(DOCS_RUN)/$$c/summary.json docs/summaries/$$c.json; done
 	for f in end_of_construction_yielded end_of_construction_sigma_yy \
 	    end_of_construction_sigma_xx core_displacement_vs_fill_level discrete_final; do \

@@ -23,13 +23,21 @@ Set-up
     horizontal displacement (``node_a_x``, ``node_a_y``; also ``Section.node_a_candidates``) and
     F by strength reduction. Discrete phase: the end of construction, or the last complete lift
     with the collapsing one placed whole, handed over (the yielded cells + ``region_layers`` may
-    split, the foundation held) and run to rest.
+    split, the foundation held) and run to rest. No mass damping (``mass_damping`` = 0): it
+    would drag every element as through a viscous fluid (alpha v / g of its weight, at 1 m/s
+    and the thesis's alpha = 3 /s a third of it), so the slide's energy goes only into plastic
+    work, friction and contact damping; the thesis's 3 /s and 0.5 /s are reported beside it
+    (docs/carsington.md).
 Verification (asserted in ``tests/test_carsington.py``)
     * every lift but a collapsing last one reaches equilibrium (Newton to 1e-8);
     * no stress in fill not yet placed, after every lift (exactly zero);
     * far-field foundation after gravity: sigma_v = -gamma z, sigma_h = K0 sigma_v (1 %);
     * F > 1 after the first lift and F falling as the dam rises;
-    * the fill level carried and node A's displacement agree on two meshes.
+    * the fill level carried and node A's displacement agree on two meshes;
+    * the discrete phase as the thesis describes it (6.3.2): at rest, a crack from the crest
+      down (failed interfaces parted >= ``slip_min`` joined to the crest: ``crack_from_top``),
+      the slip surface through the yellow clay, the boot and the core above it, the upstream
+      shoulder moving upstream, energy bounded, elements and mass kept.
     Beside published values, no bar (docs/carsington.md): fill level (thesis: the design crest),
     node A (thesis about 150 mm at 198, 400-450 mm at 200.5 m OD; observed 200-275 mm; Chen's
     finite elements 100-150 mm), F, the observed post-failure movements.
@@ -59,7 +67,7 @@ from hybrid.continuum.probe import evaluate
 from hybrid.continuum.staging import build_in_lifts, ground_stage, lift_materials, split_into_lifts
 from hybrid.continuum.strength_reduction import StrengthSearch
 from hybrid.discrete.integrate import stable_time_step
-from hybrid.discrete.measures import SlipSurface, SlopeMarks, mean_displacement
+from hybrid.discrete.measures import SlipSurface, SlopeMarks, crack_from_top, mean_displacement
 from hybrid.discrete.runs import run_to_rest
 from hybrid.discrete.solver import RunOptions
 from hybrid.figures import Column, plot_level_history, staged_figures
@@ -73,6 +81,7 @@ from hybrid.parameters import CELLS, param
 MESHES = Path(__file__).resolve().parent.parent / "meshes"
 EMBANKMENT = ("core", "zone_I", "zone_II", "berm")  # built in lifts
 GROUND = ("foundation", "yellow_clay")  # in place before construction
+CREST_DEPTH = 0.1  # a crack at the crest has an end within this of the crest's top [m]
 SECTION = ("yellow_clay_thickness", "yellow_clay_length", "boot_length", "lifts",
            "last_lift_parts")
 
@@ -107,9 +116,9 @@ class Parameters(references.CarsingtonTable62, references.CarsingtonTable63):
     fos_step: float = param(0.1, gt=0)  # first relative increase of F [-]
     fos_tolerance: float = param(0.01, gt=0)  # F bracketed to this relative width [-]
     # discrete phase (post-failure)
-    discrete_time: float = param(15.0, ge=0)  # at most, earlier at rest [s] (0: continuum only)
+    discrete_time: float = param(30.0, ge=0)  # at most, earlier at rest [s] (0: continuum only)
     region_layers: int = param(2, ge=0)  # growth of the splittable region around the yielded cells
-    mass_damping: float = param(0.5, ge=0)  # mass damping alpha [1/s]
+    mass_damping: float = param(0.0, ge=0)  # mass damping alpha [1/s] (thesis: 3; see header)
     contact_damping: float = param(0.2, ge=0, le=1)  # normal contact damping ratio [-]
     slip_min: float = param(0.1, gt=0)  # slip that puts a failed interface on the slip surface [m]
     rest: float = param(1e-4, gt=0)  # kinetic / strain energy ratio taken as rest
@@ -263,13 +272,21 @@ def main(out: str | Path = "results/carsington", **overrides) -> CaseSummary:
     run = run_to_rest(disc, out, options, until_time=p.discrete_time, rest=p.rest,
                       frames=p.frames, snapshot_times=(1.0, 3.0, 6.0, 10.0), window=g.window(True),
                       progress=p.progress)
-    surface = SlipSurface.of(disc, p.slip_min,
-                             {"yellow_clay": group == "yellow_clay", "boot": zone["boot"]})
-    paths = [*run.figures, run.final_figure(out / "discrete_final.png", surface.lines(disc))]
+    surface = SlipSurface.of(disc, p.slip_min, {"yellow_clay": group == "yellow_clay",
+                                                "boot": zone["boot"], "core": zone["core"]})
+    crack = crack_from_top(disc, g.crest_range, min_slip=p.slip_min, top_depth=CREST_DEPTH)
+    crack_lines = {f"crack from the crest ({crack.depth:.1f} m deep)":
+                   disc.x[disc.interface_nodes[crack.interfaces][:, :2]]}
+    paths = [*run.figures, run.final_figure(out / "discrete_final.png",
+                                            {**surface.lines(disc), **crack_lines})]
     moved, shoulder_dx = slope.movement(disc), mean_displacement(disc, zone["upstream_shoulder"])[0]
     checks.update({
         **surface.checks({"yellow_clay": "a yellow-clay element",
-                          "boot": "an element of the core's boot"}),
+                          "boot": "an element of the core's boot",
+                          "core": "an element of the core above its boot"}),
+        "crack_at_crest": Check(float(crack.interfaces.any()), 1.0, 0.0, "-",
+                                f"failed interfaces parted >= {p.slip_min} m from the crest "
+                                "down (crack_from_top)"),
         "shoulder_moves_upstream": Check(float(shoulder_dx < 0.0), 1.0, 0.0, "-",
                                          "mean x-displacement of the upstream shoulder < 0"),
         **run.checks()})
@@ -281,7 +298,9 @@ def main(out: str | Path = "results/carsington", **overrides) -> CaseSummary:
         "start": "last complete lift + collapsing lift placed at once"
                  if built.before_collapse is not None else "end of construction (design height)",
         **run.report(), "phase_wall_time_s": time.perf_counter() - start,
-        **surface.summary(), "upstream_shoulder_mean_dx_m": shoulder_dx,
+        **surface.summary(), "crest_crack_interfaces": int(crack.interfaces.sum()),
+        "crest_crack_depth_m": crack.depth, "crest_crack_max_opening_m": crack.max_opening,
+        "crest_crack_max_slip_m": crack.max_slip, "upstream_shoulder_mean_dx_m": shoulder_dx,
         "upstream_toe_dx_m": moved.toe_dx, "crest_drop_m": moved.crest_drop,
         "toe_runout_m": -moved.toe_dx, "max_upstream_movement_m": moved.run_out,
         "figures": [str(f) for f in paths]})

@@ -177,10 +177,10 @@ class Section:
 
     def zones(self, group: np.ndarray, centroid: np.ndarray) -> dict[str, np.ndarray]:
         """Element masks of the post-failure measures from the groups and centroids [m]: the
-        core's boot, the upstream shoulder (fill upstream of the axis) and the embankment (all
-        but the ground)."""
-        return {"boot": (group == "core")
-                & (centroid[:, 1] < self.foundation_level + self.boot_height),
+        core's boot, the core above it, the upstream shoulder (fill upstream of the axis) and
+        the embankment (all but the ground)."""
+        in_boot = centroid[:, 1] < self.foundation_level + self.boot_height
+        return {"boot": (group == "core") & in_boot, "core": (group == "core") & ~in_boot,
                 "upstream_shoulder": np.isin(group, ["zone_I", "zone_II", "berm"])
                 & (centroid[:, 0] < 0.0),
                 "embankment": ~np.isin(group, ["foundation", "yellow_clay"])}

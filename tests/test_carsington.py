@@ -207,11 +207,14 @@ def test_carsington_thesis_mesh(case, tmp_path):
     summary = case("carsington").main(out=tmp_path, fos_tolerance=tolerance, progress=False)
     assert 700 <= summary["mesh"]["cells"] <= 1300
     _check_run(summary, tolerance)
-    # bars of the discrete phase: at rest, the slip surface (failed interfaces that
-    # slipped >= 0.1 m) through the yellow clay and the core's boot, the shoulder upstream
+    # bars of the discrete phase (the thesis's description, 6.3.2): at rest, a crack from
+    # the crest down, the slip surface (failed interfaces that slipped >= 0.1 m) through the
+    # yellow clay, the core's boot and the core above it, the shoulder upstream
     d = summary["discrete"]
     assert d["stop"] == "rest"
-    for name in ("slip_surface_through_yellow_clay", "slip_surface_through_boot",
+    assert d["crest_crack_depth_m"] > 0.0
+    for name in ("crack_at_crest", "slip_surface_through_yellow_clay",
+                 "slip_surface_through_boot", "slip_surface_through_core",
                  "shoulder_moves_upstream", "energy_excess_over_sources",
                  "elements_conserved", "mass_conserved"):
         assert summary["checks"][name].passed, name

@@ -11,6 +11,8 @@ from hybrid.discrete.figures import Snapshots
 from hybrid.discrete.measures import (
     SlipSurface,
     SlopeMarks,
+    crack_from_top,
+    interface_opening,
     interface_slip,
     mean_displacement,
     moving_zone_back,
@@ -40,6 +42,52 @@ def test_interface_slip_and_surface():
     assert slip_surface(st, 0.5).tolist() == [False]
     st.interface_intact[:] = True  # an intact interface is never on the slip surface
     assert slip_surface(st, 0.1).tolist() == [False]
+
+
+def test_interface_opening_is_the_separation_along_the_normal():
+    """Pulling B away from A opens the interface; sliding along it does not; pushing overlaps."""
+    st = _two_blocks(0.0)
+    b = int(st.interface_elements[0, 1])
+    away = 1.0 if st.element_centroids()[b, 0] > st.element_centroids()[1 - b, 0] else -1.0
+    for move, expected in (((0.2 * away, 0.0), 0.2), ((0.0, 0.3), 0.0),
+                           ((-0.05 * away, 0.1), -0.05)):
+        st.x[:] = st.x_ref
+        st.x[st.element_nodes[b]] += move
+        assert interface_opening(st) == pytest.approx([expected], abs=1e-12), move
+
+
+def _column_with_cracks(failed_rows):
+    """Two columns of three 1 m squares; the vertical interfaces of ``failed_rows`` failed,
+    the right column's elements of those rows pulled 0.2 m to the right."""
+    st = rectangle(2.0, 3.0, 2, 3, material=ROCK)
+    centre = st.element_centroids()
+    mid = st.x_ref[st.interface_nodes[:, :2]].mean(axis=1)
+    vertical = np.flatnonzero(np.isclose(mid[:, 0], 1.0))
+    for row in failed_rows:
+        st.interface_intact[vertical[np.isclose(mid[vertical, 1], row + 0.5)]] = False
+        right = np.flatnonzero((centre[:, 0] > 1.0) & np.isclose(centre[:, 1], row + 0.5))
+        st.x[st.element_nodes[right]] += (0.2, 0.0)
+    return st, mid
+
+
+def test_crack_from_top_follows_connected_failed_interfaces_down():
+    st, mid = _column_with_cracks([2, 1])  # the top two rows: one crack 2 m deep
+    crack = crack_from_top(st, (0.5, 1.5), min_slip=0.1, top_depth=0.01)
+    assert crack.top == 3.0 and crack.depth == pytest.approx(2.0)
+    assert sorted(mid[crack.interfaces, 1].tolist()) == [1.5, 2.5]
+    assert crack.max_opening == pytest.approx(0.2) and crack.max_slip == pytest.approx(0.2)
+    # a failed interface not joined to the top does not count: the crack stops at 1 m
+    st, mid = _column_with_cracks([2, 0])
+    crack = crack_from_top(st, (0.5, 1.5), min_slip=0.1, top_depth=0.01)
+    assert mid[crack.interfaces, 1].tolist() == [2.5] and crack.depth == pytest.approx(1.0)
+    # nothing reaches the top, or it moved less than min_slip: no crack
+    st, _ = _column_with_cracks([0])
+    assert crack_from_top(st, (0.5, 1.5), min_slip=0.1, top_depth=0.01).depth == 0.0
+    st, _ = _column_with_cracks([2])
+    none = crack_from_top(st, (0.5, 1.5), min_slip=0.5, top_depth=0.01)
+    assert not none.interfaces.any() and none.depth == 0.0
+    with pytest.raises(ValueError, match="no node in the column"):
+        crack_from_top(st, (5.0, 6.0), min_slip=0.1, top_depth=0.01)
 
 
 def test_slip_trace_is_in_the_start_geometry():

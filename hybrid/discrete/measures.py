@@ -23,7 +23,8 @@ from hybrid.io import Check
 
 __all__ = ["interface_slip", "slip_surface", "slip_trace", "slipped_interfaces", "SlipSurface",
            "SlopeMarks", "SlopeMovement", "FootingMarks", "Deposit", "deposit",
-           "mean_displacement", "moving_zone_back", "MOVING_FRACTION"]
+           "mean_displacement", "moving_zone_back", "MOVING_FRACTION", "interface_opening",
+           "Crack", "crack_from_top"]
 
 #: The zone that moves with a wall (or a slope face): elements that have moved at least this
 #: fraction of the face's own movement [-]. Small enough to reach the back of the slip, large
@@ -39,6 +40,21 @@ def interface_slip(state: DiscreteState) -> np.ndarray:
     n = state.interface_nodes
     return 0.5 * (np.linalg.norm(state.x[n[:, 0]] - state.x[n[:, 2]], axis=1)
                   + np.linalg.norm(state.x[n[:, 1]] - state.x[n[:, 3]], axis=1))
+
+
+def interface_opening(state: DiscreteState) -> np.ndarray:
+    """Opening [m] of every interface (n_interfaces,): its sides' separation along the normal.
+
+    The normal is the outward normal of element A's edge (a0 -> a1, counter-clockwise) in the
+    current geometry; the mean over the two node pairs of (x_b - x_a) . n. Positive: the
+    sides stand apart (an open crack); about zero: they slide in contact; negative: overlap.
+    """
+    n = state.interface_nodes
+    edge = state.x[n[:, 1]] - state.x[n[:, 0]]
+    normal = np.stack([edge[:, 1], -edge[:, 0]], axis=1)
+    normal /= np.maximum(np.linalg.norm(normal, axis=1), 1e-300)[:, None]
+    gap = 0.5 * ((state.x[n[:, 2]] - state.x[n[:, 0]]) + (state.x[n[:, 3]] - state.x[n[:, 1]]))
+    return np.einsum("ij,ij->i", gap, normal)
 
 
 def slip_surface(state: DiscreteState, min_slip: float) -> np.ndarray:
@@ -148,6 +164,68 @@ class SlipSurface:
             float(self.through[name] > 0), 1.0, 0.0, "-",
             f"failed interfaces slipped >= {self.min_slip} m with {element}")
             for name, element in sets.items()}
+
+
+class Crack(NamedTuple):
+    """The failed interfaces that run down from a surface (:func:`crack_from_top`).
+
+    Attributes:
+        interfaces: (n_interfaces,) True for the crack's interfaces.
+        top: the highest reference elevation in the column searched [m].
+        depth: how far below ``top`` the crack reaches (its lowest interface end) [m]; 0
+            when there is no crack.
+        max_opening: the largest :func:`interface_opening` of its interfaces [m] (0: none).
+        max_slip: the largest :func:`interface_slip` of its interfaces [m] (0: none).
+    """
+
+    interfaces: np.ndarray
+    top: float
+    depth: float
+    max_opening: float
+    max_slip: float
+
+
+def crack_from_top(state: DiscreteState, column: tuple[float, float], *, min_slip: float,
+                   top_depth: float) -> Crack:
+    """The failed interfaces connected to the top of a column, e.g. a crack from a crest.
+
+    Within the column ``column[0] < x < column[1]`` (reference midpoints) [m]: the failed
+    interfaces whose sides moved apart by at least ``min_slip`` [m] (:func:`interface_slip`:
+    opening and sliding together), those with an end within ``top_depth`` [m] of the column's
+    highest point, and every such interface joined to them through shared vertices (reference
+    geometry). Its depth is measured from that highest point.
+    """
+    n = state.interface_nodes
+    ends = state.x_ref[n[:, :2]]  # (n_if, 2, 2): the interface's two vertices
+    mid = ends.mean(axis=1)
+    in_column = (mid[:, 0] > column[0]) & (mid[:, 0] < column[1])
+    nodes = np.unique(state.element_nodes)
+    column_nodes = nodes[(state.x_ref[nodes, 0] > column[0]) & (state.x_ref[nodes, 0] < column[1])]
+    if column_nodes.size == 0:
+        raise ValueError(f"crack_from_top: no node in the column {column} m")
+    top = float(state.x_ref[column_nodes, 1].max())
+    candidate = np.flatnonzero(~state.interface_intact & in_column
+                               & (interface_slip(state) >= min_slip))
+    keys = [tuple(np.round(v, 9) for v in ends[i, k]) for i in candidate for k in (0, 1)]
+    by_vertex: dict[tuple, list[int]] = {}
+    for j, key in enumerate(keys):
+        by_vertex.setdefault(key, []).append(int(candidate[j // 2]))
+    found = {int(i) for i in candidate if ends[i, :, 1].max() >= top - top_depth}
+    todo = list(found)
+    while todo:
+        i = todo.pop()
+        for key in (tuple(np.round(v, 9) for v in ends[i, k]) for k in (0, 1)):
+            for j in by_vertex[key]:
+                if j not in found:
+                    found.add(j)
+                    todo.append(j)
+    mask = np.zeros(n.shape[0], dtype=bool)
+    mask[sorted(found)] = True
+    if not found:
+        return Crack(mask, top, 0.0, 0.0, 0.0)
+    return Crack(mask, top, top - float(ends[mask, :, 1].min()),
+                 float(interface_opening(state)[mask].max()),
+                 float(interface_slip(state)[mask].max()))
 
 
 class SlopeMovement(NamedTuple):
