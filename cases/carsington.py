@@ -13,7 +13,9 @@ Problem
     fill and the clays (thesis 6.3.1.1). Beyond the thesis (``softening``): the strengths fall
     to residual over a slip ``softening_displacement``, the fill to c = 0 and Table 6.2's
     phi_r, the phi = 0 clays to c_u tan(phi_r') / tan(phi') (the drained ratio, assumed to
-    hold undrained). Neither analysis sets an expert option of the discrete phase.
+    hold undrained); with ``discrete_softening`` only in the discrete phase (the dam built at
+    Table 6.3's peak strengths, the failed mass softening once it moves). No analysis sets an
+    expert option of the discrete phase.
 Set-up
     Base fixed, sides on vertical rollers. Stage 1: gravity on the foundation (key trench open),
     displacements zeroed. Stages 2-6: five lifts (``lift_tops``) placed stress-free, their
@@ -52,7 +54,7 @@ from __future__ import annotations
 
 import functools
 import time
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, fields, replace
 from pathlib import Path
 from types import ModuleType
 from typing import Any
@@ -87,7 +89,7 @@ SECTION = ("yellow_clay_thickness", "yellow_clay_length", "boot_length", "lifts"
 
 # the fields that make the modelled section the thesis's (published figures apply with them)
 PUBLISHED_PROBLEM = (*SECTION, *(f.name for f in fields(references.CarsingtonTable63)),
-                     "no_tension", "strength_factor", "softening")
+                     "no_tension", "strength_factor", "softening", "discrete_softening")
 
 
 @dataclass
@@ -105,6 +107,7 @@ class Parameters(references.CarsingtonTable62, references.CarsingtonTable63):
     no_tension: bool = True  # tension cut-off 0 in the fill and the clays (thesis 6.3.1.1)
     softening: bool = False  # strengths fall to residual (beyond the thesis: its Problem)
     softening_displacement: float = param(0.5, gt=0)  # u_r: slip from peak to residual [m]
+    discrete_softening: bool = False  # softening in the discrete phase only (built at peak)
     node_a_x: float = 0.0  # the thesis's node A [m from the axis] (assumed: the core's axis,
     node_a_y: float = 166.5  # [m OD] at the top of the boot)
     strength_factor: float = param(1.0, gt=0)  # c, tan(phi) / this while building (< 1: stronger)
@@ -258,8 +261,10 @@ def main(out: str | Path = "results/carsington", **overrides) -> CaseSummary:
 
     # discrete phase (``discrete_time`` > 0): handover, the foundation ("strong base") held
     start = time.perf_counter()
-    hand = (from_construction(solver, built, region=Region(layers=p.region_layers))
-            if p.discrete_time > 0.0 else None)
+    after = (materials(replace(p, softening=True))
+             if p.discrete_softening and not p.softening else None)
+    hand = (from_construction(solver, built, region=Region(layers=p.region_layers),
+                              materials=after) if p.discrete_time > 0.0 else None)
     if hand is None or hand.discrete is None:  # continuum only, or MPI ranks other than 0
         summary.write(out / "summary.json", solver.model.mesh.comm)
         return summary

@@ -22,13 +22,15 @@ ranks); serial and parallel runs give the same discrete start.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, replace
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from hybrid.discrete.settle import SettleReport, residual_force, settle
 from hybrid.discrete.start import Handover, start_from_snapshot
+from hybrid.materials import Material
 from hybrid.snapshot import CellSnapshot
 
 if TYPE_CHECKING:
@@ -36,7 +38,8 @@ if TYPE_CHECKING:
     from hybrid.continuum.staging import Construction
 
 __all__ = ["Region", "Handover", "to_discrete", "start_from", "region_cells", "settle",
-           "SettleReport", "residual_force", "from_construction", "element_groups"]
+           "SettleReport", "residual_force", "from_construction", "element_groups",
+           "discrete_materials"]
 
 
 @dataclass(frozen=True)
@@ -114,7 +117,8 @@ def start_from(snapshot: CellSnapshot, *, region: Region | None = None,
 
 def to_discrete(state: Any, *, region: Region | None = None,
                 freeze_layers: int | None = None, gravity: bool | None = None,
-                strength_factor: float | None = None) -> Handover:
+                strength_factor: float | None = None,
+                materials: Mapping[str, Material] | None = None) -> Handover:
     """Build the discrete start from a converged :class:`~hybrid.continuum.ContinuumState`.
 
     Only the cells in place are handed over (staged construction: ``state.active``); a lift
@@ -123,28 +127,64 @@ def to_discrete(state: Any, *, region: Region | None = None,
     ``strength_factor``: the reduced strengths of a strength-reduction state) unless
     ``strength_factor`` is given (1: the materials as defined); the report records them.
     ``gravity``: whether the self-weight acts (default: when the state had it on).
+    ``materials``: the discrete phase's materials by cell-group name, in place of the
+    continuum's (:func:`discrete_materials`).
     """
     from hybrid.continuum.snapshot import cell_snapshot
 
     snapshot = cell_snapshot(state, strength_factor=strength_factor, gravity=gravity)
     if snapshot is None:
         return Handover(None, np.zeros(0, bool), np.zeros(0, bool), np.zeros((0, 2)))
+    if materials is not None:
+        snapshot = discrete_materials(snapshot, materials)
     return start_from(snapshot, region=region, freeze_layers=freeze_layers)
 
 
+def discrete_materials(snapshot: CellSnapshot,
+                       materials: Mapping[str, Material]) -> CellSnapshot:
+    """``snapshot`` with the discrete phase's own materials.
+
+    E.g. strengths that soften once the failed mass moves, after a construction at peak
+    strength. ``materials`` maps a cell-group name to its material; a lift ("core:2") takes its
+    group's ("core"), a group not named keeps the continuum's. The stresses are handed over
+    as they are, so a replacement keeps E, nu and the density of the material it replaces
+    (a ValueError names the first that differs); its strengths are divided by the snapshot's
+    ``strength_factor`` as the continuum's were. The continuum's plastic strain counts
+    towards a softening law from the start.
+    """
+    out = []
+    for old, name in zip(snapshot.materials, snapshot.material_names):
+        new = materials.get(name.split(":")[0])
+        if new is None:
+            out.append(old)
+            continue
+        for field in ("E", "nu", "density"):
+            if getattr(new, field) != getattr(old, field):
+                raise ValueError(
+                    f"discrete material for '{name}': {field} = {getattr(new, field)!r} "
+                    f"differs from the continuum's {getattr(old, field)!r}; the stresses are "
+                    f"handed over as they are, so give the same {field} (only strengths and "
+                    "the discrete properties may change)")
+        factor = snapshot.strength_factor
+        out.append(new.weakened(factor) if new.is_plastic and factor != 1.0 else new)
+    return replace(snapshot, materials=tuple(out))
+
+
 def from_construction(solver: PlasticSolver, construction: Construction, *,
-                      region: Region | None = None) -> Handover:
+                      region: Region | None = None,
+                      materials: Mapping[str, Material] | None = None) -> Handover:
     """The discrete start after a staged construction (``solver`` as it ended it).
 
     When a lift collapsed (``construction.before_collapse``), the solver is restored to the
     last complete lift first: the collapsing lift is handed over in place, stress-free, and
     gets all its weight in the discrete phase (:func:`to_discrete`); otherwise the end of
     construction is handed over. ``region``: where interfaces may split (default: the
-    yielded cells).
+    yielded cells); ``materials``: the discrete phase's own, by cell group
+    (:func:`discrete_materials`).
     """
     if construction.before_collapse is not None:
         solver.restore(construction.before_collapse)
-    return to_discrete(solver.state(), region=region)
+    return to_discrete(solver.state(), region=region, materials=materials)
 
 
 def element_groups(hand: Handover) -> np.ndarray:

@@ -14,8 +14,15 @@ import pytest
 from conftest import PYTHON, ROOT
 
 from hybrid import handover
-from hybrid.handover import Handover, Region, element_groups, from_construction, start_from
-from hybrid.materials import GRAVITY, Material
+from hybrid.handover import (
+    Handover,
+    Region,
+    discrete_materials,
+    element_groups,
+    from_construction,
+    start_from,
+)
+from hybrid.materials import GRAVITY, Material, Strength
 from hybrid.snapshot import CellSnapshot
 
 
@@ -107,7 +114,7 @@ def test_from_construction_restores_the_last_complete_lift(monkeypatch):
             calls.append(("state",))
             return "state"
 
-    def fake_to_discrete(state, *, region):
+    def fake_to_discrete(state, *, region, materials=None):
         calls.append(("to_discrete", state, region))
         return "hand"
 
@@ -119,3 +126,29 @@ def test_from_construction_restores_the_last_complete_lift(monkeypatch):
     calls.clear()
     assert from_construction(Solver(), SimpleNamespace(before_collapse=None)) == "hand"
     assert calls == [("state",), ("to_discrete", "state", None)]
+
+
+def test_discrete_materials_replace_a_group_lifts_included():
+    """The discrete phase's own materials: a group's lifts take it, other groups keep the
+    continuum's, the snapshot's strength factor applies, and a stiffness or density that
+    differs (the stresses are handed over as they are) is refused."""
+    peak = Material(name="core", E=1e5, nu=0.3, unit_weight=20.0, cohesion=50.0)
+    rock = Material(name="rock", E=1e6, nu=0.2, unit_weight=22.0)
+    soft = Material(name="core", E=1e5, nu=0.3, unit_weight=20.0, cohesion=50.0,
+                    residual=Strength(cohesion=30.0, phi=0.0), softening_displacement=0.5)
+    snap = _snapshot(material=np.array([0, 1]), materials=(peak, rock),
+                     material_names=("core:2", "foundation"))
+    out = discrete_materials(snap, {"core": soft})
+    assert out.materials == (soft, rock) and out.material_names == snap.material_names
+    halved = discrete_materials(_snapshot(material=np.array([0, 1]), materials=(peak, rock),
+                                          material_names=("core:2", "foundation"),
+                                          strength_factor=2.0), {"core": soft})
+    assert halved.materials[0] == soft.weakened(2.0)
+    hand = start_from(out)
+    assert hand.discrete.n_elements == 2
+    with pytest.raises(ValueError, match="E = 200000.0 differs from the continuum's"):
+        discrete_materials(snap, {"core": Material(name="core", E=2e5, nu=0.3,
+                                                   unit_weight=20.0, cohesion=50.0)})
+    with pytest.raises(ValueError, match="density"):
+        discrete_materials(snap, {"core": Material(name="core", E=1e5, nu=0.3,
+                                                   unit_weight=19.0, cohesion=50.0)})
