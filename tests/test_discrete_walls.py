@@ -4,7 +4,8 @@ A free block thrown at a wall must bounce off it, not pass through: without cont
 with its energy kept (the wall force is elastic), with contact damping losing what it loses at
 the face of a held block of the same material. An element already beyond the plane, or
 beside the wall's span, is left alone. The handover makes the wall of a straight roller
-boundary, with the body on its inner side; a checkpoint keeps it.
+boundary, with the body on its inner side; a checkpoint keeps it; the wall goes when its
+support's nodes are released.
 """
 
 import numpy as np
@@ -22,19 +23,23 @@ from hybrid.materials import Contact, Material
 
 def _thrown_block(zeta: float, held_block: bool = False) -> tuple[DiscreteState, np.ndarray]:
     """A free 1 m block of 2 x 2 Q4 (no gravity) at x in [0.5, 1.5] moving at 2 m/s toward
-    x = 0: a wall there (body side x > 0, spanning y in [-1, 2]) or, with ``held_block``, a
-    held 1 x 3 m block of the same material behind it. Returns the state and the free nodes."""
+    x = 0: a wall there (body side x > 0, spanning y in [-3, 2], held by a block at
+    y in [-3, -2] with its side on the plane) or, with ``held_block``, a held 1 x 3 m block
+    of the same material behind it. Returns the state and the free nodes."""
     mat = Material(name="block", E=1.0e5, nu=0.3, density=2.0,
                    contact=Contact(damping=zeta, phi=30.0))
     parts = [(1.0, 1.0, 2, 2, (0.5, 0.0), 0)]
     if held_block:
         parts.append((1.0, 3.0, 2, 6, (-1.0, -1.0), 0))
+    else:  # the support the wall belongs to: a held block with its side on the plane
+        parts.append((1.0, 1.0, 1, 1, (0.0, -3.0), 0))
     st = blocks(parts, [mat], gravity=(0.0, 0.0))
     free = np.unique(st.element_nodes[:4])
-    if held_block:
-        st.fix(np.unique(st.element_nodes[4:]))
-    else:
-        st.walls = np.array([[1.0, 0.0, 0.0, -1.0, 2.0]])
+    st.fix(np.unique(st.element_nodes[4:]))
+    if not held_block:
+        st.walls = np.array([[1.0, 0.0, 0.0, -3.0, 2.0]])
+        on_plane = np.flatnonzero(st.fixed[:, 0] & np.isclose(st.x[:, 0], 0.0))
+        st.wall_nodes = np.column_stack([np.zeros_like(on_plane), on_plane])
     st.v[free, 0] = -2.0
     return st, free
 
@@ -62,7 +67,7 @@ def test_a_block_bounces_off_a_smooth_wall_with_its_energy_kept():
     e0 = EnergyLedger.measure(st).kinetic
     x_min, vx, energy, led = _bounce(st, free)
     assert x_min > -0.05  # the overlap stays a small fraction of the block
-    assert st.x[:, 0].min() > 0.0 and vx > 0.0  # back out, moving away
+    assert st.x[free, 0].min() > 0.0 and vx > 0.0  # back out, moving away
     # elastic wall: the energy after the bounce (translation and vibration) is that before
     assert energy == pytest.approx(e0, rel=0.02)
     assert led.contact_damping == 0.0 and abs(led.friction) < 1e-12
@@ -83,17 +88,39 @@ def test_a_smooth_wall_acts_as_a_held_block_of_the_same_material():
 def test_an_element_beyond_the_wall_is_left_alone():
     """An element whose centroid is already beyond the plane, or beside the wall's span, is
     not pushed (it would be shot back through the plane)."""
-    st, _ = _thrown_block(zeta=0.0)
-    st.x[:, 0] -= 1.2  # centroids at x = -0.45 and +0.05 (columns of the 2 x 2)
+    st, free = _thrown_block(zeta=0.0)
+    st.x[free, 0] -= 1.2  # centroids at x = -0.45 and +0.05 (columns of the 2 x 2)
     args = (st.x, st.element_nodes, st.element_material, st.contact_table, st.fixed)
-    beyond = st.x[st.element_nodes].mean(axis=1)[:, 0] < 0.0
-    assert beyond.any() and not beyond.all()
+    beyond = st.x[st.element_nodes[:4]].mean(axis=1)[:, 0] < 0.0
+    beyond = np.concatenate([beyond, [False]])  # the held block: inside, held, no force
+    assert beyond.any() and not beyond[:4].all()
     e_all = wall_energy(*args, st.walls)
-    st.x[st.element_nodes[~beyond].ravel(), 0] += 10.0  # the others taken away
+    moved = st.element_nodes[~beyond].ravel()
+    st.x[moved, 0] += 10.0  # the others taken away
     assert wall_energy(*args, st.walls) == 0.0 < e_all
-    st.x[:, 0] -= 10.0 * np.isin(np.arange(st.n_nodes), st.element_nodes[~beyond])
+    st.x[moved, 0] -= 10.0
     st.walls[0, 3:] = [5.0, 6.0]  # span elsewhere
     assert wall_energy(*args, st.walls) == 0.0
+
+
+def test_a_released_roller_takes_its_wall_with_it():
+    """Freeing the support's nodes along the normal (a gate opened) removes the wall when
+    the solver starts: the block then passes the plane."""
+    st, free = _thrown_block(zeta=0.0)
+    support = st.wall_nodes[:, 1]
+    st.fixed[support, 0] = False
+    x_min, _, _, _ = _bounce(st, free)
+    assert st.walls.shape == (0, 5) and st.wall_nodes.shape == (0, 2)
+    assert x_min < -0.5
+    st, free = _thrown_block(zeta=0.0)
+    st.fixed[support, 1] = False  # held along the normal still: the wall stands
+    with ExplicitSolver(st, RunOptions(contact=True)):
+        assert st.walls.shape == (1, 5)
+    st, free = _thrown_block(zeta=0.0)
+    st.wall_nodes = st.wall_nodes[:0]  # a wall of no support stands for good
+    st.fixed[support, 0] = False
+    with ExplicitSolver(st, RunOptions(contact=True)):
+        assert st.walls.shape == (1, 5)
 
 
 def test_make_wall_places_the_plane_on_the_boundary_with_the_body_inside():
@@ -110,11 +137,15 @@ def test_the_handover_makes_walls_of_straight_roller_boundaries(tmp_path):
     snap = _snapshot(boundary_edges={**_snapshot().boundary_edges, "left": left},
                      supports=(("base", True, True), ("left", True, False)),
                      smooth=("left",))
-    disc = start_from(snap, region=Region(everywhere=True)).discrete
+    hand = start_from(snap, region=Region(everywhere=True))
+    disc = hand.discrete
     assert disc.walls.tolist() == [[1.0, 0.0, 0.0, 0.0, 1.0]]
+    assert disc.wall_nodes[:, 0].tolist() == [0, 0]
+    assert np.array_equal(disc.wall_nodes[:, 1], hand.boundary_nodes["left"])
     assert start_from(_snapshot(), region=Region(everywhere=True)).discrete.walls.shape == (0, 5)
     back = DiscreteState.load(disc.save(tmp_path / "state.npz"))
     assert np.array_equal(back.walls, disc.walls)
+    assert np.array_equal(back.wall_nodes, disc.wall_nodes)
 
 
 def test_wall_bounce_identical_with_one_and_two_threads():

@@ -290,6 +290,10 @@ class ExplicitSolver:
         self._cmass: np.ndarray = (
             self._cmod.rigid_contact_mass(st.mass, st.fixed, st.element_nodes) if self.contact
             else np.zeros(0))
+        if st.walls.shape[0]:  # a released roller takes its wall with it
+            from hybrid.discrete.contact.walls import held_walls
+
+            st.walls, st.wall_nodes = held_walls(st.walls, st.wall_nodes, st.fixed)
 
     def step(self) -> None:
         """Advance the state by one step: contacts, forces, update, ledger, splitting."""

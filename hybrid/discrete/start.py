@@ -104,7 +104,7 @@ def start_from_snapshot(snapshot: CellSnapshot, *, splittable: np.ndarray,
     for name, held_x, held_y in s.supports:
         nodes = boundary_nodes.get(name, np.zeros(0, dtype=np.int64))
         disc.fix(nodes, x=held_x, y=held_y)
-    disc.walls = _walls(s, disc, boundary_nodes)
+    disc.walls, disc.wall_nodes = _walls(s, disc, boundary_nodes)
     disc.external_force[:] = load_forces
     disc.primed = False
     report = {"elements": int(disc.n_elements), "nodes": int(disc.n_nodes),
@@ -122,14 +122,16 @@ def start_from_snapshot(snapshot: CellSnapshot, *, splittable: np.ndarray,
 
 
 def _walls(s: CellSnapshot, disc: DiscreteState,
-           boundary_nodes: dict[str, np.ndarray]) -> np.ndarray:
-    """The smooth walls of the straight roller boundaries (``contact.walls.make_wall``).
+           boundary_nodes: dict[str, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """The smooth walls of the straight roller boundaries and their support nodes.
 
-    The body's side is that of the centroids of the elements along the boundary.
+    ``contact.walls.make_wall``; the body's side is that of the centroids of the elements
+    along the boundary, the support nodes the boundary's.
     """
     from hybrid.discrete.contact.walls import WALL_WIDTH, make_wall
 
-    rows = []
+    rows: list[np.ndarray] = []
+    nodes_of: list[np.ndarray] = []
     held = {name: (hx, hy) for name, hx, hy in s.supports}
     centroids = disc.element_centroids()
     for name in s.smooth:
@@ -140,8 +142,10 @@ def _walls(s: CellSnapshot, disc: DiscreteState,
         elements = np.unique([int(e) for _, _, e in s.boundary_edges[name]])
         wall = make_wall(disc.x[nodes], centroids[elements].mean(axis=0), axis)
         if wall is not None:
+            nodes_of.append(np.column_stack([np.full(nodes.size, len(rows)), nodes]))
             rows.append(wall)
-    return np.array(rows, dtype=float).reshape(-1, WALL_WIDTH)
+    wall_nodes = (np.concatenate(nodes_of) if nodes_of else np.zeros((0, 2))).astype(np.int64)
+    return np.array(rows, dtype=float).reshape(-1, WALL_WIDTH), wall_nodes
 
 
 def _boundaries(s: CellSnapshot, disc: DiscreteState) -> tuple[dict[str, np.ndarray],

@@ -7,6 +7,11 @@ symmetry plane, or the wall). Without this a fragment crosses the plane and move
 beside the model with nothing in its way (H2: a fragment squeezed over the footing slid
 across the symmetry plane and fell for ever).
 
+A wall belongs to its support (``DiscreteState.wall_nodes``): it stands while one of the
+support's nodes is held along its normal, and goes when the support is released (a gate or
+a retaining wall removed for the discrete phase by freeing its nodes: ``held_walls``,
+applied by the solver at the start of each run).
+
 A wall is a row ``[n_x, n_y, c, s_min, s_max]`` of ``DiscreteState.walls``: the body lies
 on the side ``n . x >= c`` (``n`` the unit normal into the body) and the wall spans the
 tangential coordinate ``s = t . x`` in ``[s_min, s_max]`` (``t = (-n_y, n_x)``; the extent
@@ -39,7 +44,8 @@ from numba import njit
 import hybrid  # noqa: F401  (sets NUMBA_CACHE_DIR / OMP_WAIT_POLICY before numba compiles)
 from hybrid.discrete.contact.law import _shape_weights
 
-__all__ = ["WALL_WIDTH", "WallBuffers", "add_wall_forces", "wall_energy", "make_wall"]
+__all__ = ["WALL_WIDTH", "WallBuffers", "add_wall_forces", "wall_energy", "make_wall",
+           "held_walls"]
 
 WALL_WIDTH = 5  # [n_x, n_y, c, s_min, s_max]
 
@@ -247,3 +253,25 @@ def make_wall(points: np.ndarray, inside: np.ndarray, axis: int,
     c = float((sign * across).min())
     s = -normal[1] * points[:, 0] + normal[0] * points[:, 1]
     return np.array([normal[0], normal[1], c, float(s.min()), float(s.max())])
+
+
+def held_walls(walls: np.ndarray, wall_nodes: np.ndarray,
+               fixed: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The walls whose support stands, and their nodes renumbered.
+
+    A wall stands while one of its support nodes (``wall_nodes`` rows [wall, node]) is held
+    along its normal; a wall with no nodes listed stands for good. A roller released for the
+    discrete phase (its nodes freed along the normal: a gate opened, a retaining wall
+    removed) takes its wall with it.
+    """
+    walls = np.asarray(walls, dtype=float).reshape(-1, WALL_WIDTH)
+    wall_nodes = np.asarray(wall_nodes, dtype=np.int64).reshape(-1, 2)
+    keep = np.ones(walls.shape[0], dtype=bool)
+    for k, (nx, ny, _, _, _) in enumerate(walls):
+        nodes = wall_nodes[wall_nodes[:, 0] == k, 1]
+        if nodes.size:
+            keep[k] = bool(fixed[nodes, 0 if abs(nx) >= abs(ny) else 1].any())
+    renumber = np.cumsum(keep) - 1
+    rows = keep[wall_nodes[:, 0]]
+    nodes = np.column_stack([renumber[wall_nodes[rows, 0]], wall_nodes[rows, 1]])
+    return walls[keep], nodes.astype(np.int64).reshape(-1, 2)
