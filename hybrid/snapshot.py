@@ -43,6 +43,9 @@ class CellSnapshot:
         yielded: (n_cells, n_points_per_cell) 1 where the point yielded in the last step.
         boundary_edges: boundary name -> (m, 3) rows (vertex a, vertex b, cell).
         supports: (boundary name, x held, y held) of every support, in the model's order.
+        smooth: names of the boundaries with a roller support (a symmetry plane or a smooth
+            wall: the discrete start makes the straight ones smooth rigid walls for every
+            element, ``DiscreteState.walls``).
         loads: boundary name -> (pressure [kPa], traction x [kPa], traction y [kPa]) of the
             surface load on it (pressure acts against the outward normal).
         load_factor: the factor the surface loads stand at [-].
@@ -63,6 +66,7 @@ class CellSnapshot:
     yielded: np.ndarray
     boundary_edges: dict[str, np.ndarray] = field(default_factory=dict)
     supports: tuple[tuple[str, bool, bool], ...] = ()
+    smooth: tuple[str, ...] = ()
     loads: dict[str, tuple[float, float, float]] = field(default_factory=dict)
     load_factor: float = 1.0
     gravity: tuple[float, float] = (0.0, 0.0)

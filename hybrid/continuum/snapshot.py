@@ -51,6 +51,7 @@ def cell_snapshot(state: Any, *, strength_factor: float | None = None,
         strength_factor=float(factor), degree=int(state.disc.degree), points=data["qp"],
         stress=data["stress"], plastic_strain=data["plastic"], yielded=data["yielded"],
         boundary_edges=edges, supports=tuple(_held(s) for s in model.supports),
+        smooth=tuple(s.boundary for s in model.supports if isinstance(s, Roller)),
         loads={load.boundary: _load_row(load) for load in model.loads},
         load_factor=float(state.info.get("load_factor", 1.0)),
         gravity=(0.0, -GRAVITY) if gravity else (0.0, 0.0))

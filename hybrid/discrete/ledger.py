@@ -7,7 +7,8 @@ The terms balance as
         = E_kin(0) + E_strain(0) + E_contact(0) + W_loads + W_supports,
 
 where E_contact is the elastic energy stored in the contacts (``contact.contact_energy``:
-k_n A^2 / (2 L_c) + |F_t|^2 / (2 k_t L_c) per pair), D_contact_damping minus the work of the
+k_n A^2 / (2 L_c) + |F_t|^2 / (2 k_t L_c) per pair; ``contact.walls.wall_energy`` for the
+smooth walls), D_contact_damping minus the work of the
 contact damping forces as applied (after the no-adhesion clamp) on the mid-step velocity
 (``contact.mid_step_work``: the kinetic energy of the central-difference update changes by
 exactly F(t) . v_mid dt), D_friction minus the work of the tangential contact forces on the
@@ -72,6 +73,11 @@ class EnergyLedger:
             u_n, u_t = cmod.contact_energy(state.x, state.element_nodes, state.element_material,
                                            state.contact_table, state.contact_pairs,
                                            state.contact_shear)
+        if state.walls.shape[0]:  # the smooth walls' normal springs
+            from hybrid.discrete.contact.walls import wall_energy
+
+            u_n += wall_energy(state.x, state.element_nodes, state.element_material,
+                               state.contact_table, state.fixed, state.walls)
         return cls(kinetic=integrate.kinetic_energy(state),
                    strain=strain_energy(state),
                    contact_elastic=u_n + u_t,

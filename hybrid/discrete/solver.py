@@ -2,7 +2,8 @@
 
 Orchestration only (no math here). :meth:`ExplicitSolver.step` calls the kernels in order:
 contact refresh (``contact.find_contact_pairs`` every ``contact_refresh`` steps and after each
-splitting check), contact forces (``contact.forces.add_contact_forces``), the explicit update
+splitting check), contact forces (``contact.forces.add_contact_forces``, and
+``contact.walls`` for the smooth walls of the roller supports), the explicit update
 (``integrate.step``: tie groups, central differences, element stresses and internal forces),
 the contact terms of the energy ledger (``contact.mid_step_work``, see
 ``hybrid.discrete.ledger``) and, every ``split_every`` steps, interface failure and splitting
@@ -228,8 +229,12 @@ class ExplicitSolver:
             except ImportError as err:
                 raise ValueError("contact=True but hybrid.discrete.contact is not available"
                                  ) from err
+            from hybrid.discrete.contact.walls import WallBuffers, add_wall_forces
+
             self._cmod = cmod
             self._add_contact_forces = add_contact_forces
+            self._add_wall_forces = add_wall_forces
+            self._wbuf = WallBuffers()
         dt = o.dt
         if dt is None:
             dt = state.dt if state.dt > 0.0 else o.safety * integrate.stable_time_step(
@@ -265,6 +270,7 @@ class ExplicitSolver:
         n_work = state.x.shape[0] if self.contact else 0
         self._cforce: np.ndarray = np.zeros((n_work, 2))
         self._split: np.ndarray = np.zeros((2, n_work, 2))
+        self._split_damping = self._split[0]  # the walls' damping part goes here (a view)
         self._v_start: np.ndarray = np.zeros((n_work, 2))
         self._cbuf: Any = ContactBuffers() if self.contact else None
         self._begin()
@@ -284,6 +290,10 @@ class ExplicitSolver:
         self._cmass: np.ndarray = (
             self._cmod.rigid_contact_mass(st.mass, st.fixed, st.element_nodes) if self.contact
             else np.zeros(0))
+        if st.walls.shape[0]:  # a released roller takes its wall with it
+            from hybrid.discrete.contact.walls import held_walls
+
+            st.walls, st.wall_nodes = held_walls(st.walls, st.wall_nodes, st.fixed)
 
     def step(self) -> None:
         """Advance the state by one step: contacts, forces, update, ledger, splitting."""
@@ -305,14 +315,20 @@ class ExplicitSolver:
                                                               st.contact_shear, pairs)
                 st.contact_pairs = pairs
             self._cforce[:] = 0.0
-            n_pairs = st.contact_pairs.shape[0]
+            n_pairs = st.contact_pairs.shape[0] + st.walls.shape[0]  # forces to account for
             if n_pairs:
                 self._split[:] = 0.0
                 self._v_start[:] = st.v
+            if st.contact_pairs.shape[0]:
                 self.active_contacts = self._add_contact_forces(  # unchecked: state, dt and
                     st.x, st.v, self._cmass, st.element_nodes,  # pairs checked already
                     st.element_material, st.contact_table, st.contact_pairs, st.contact_shear,
                     dt, self._cforce, self._split, self._cbuf)[0]
+            if st.walls.shape[0]:  # the smooth walls: normal force, its damping part
+                self._add_wall_forces(st.x, st.v, st.mass, st.element_nodes,
+                                      st.element_material, st.contact_table, st.fixed,
+                                      st.walls, dt, self._cforce, self._split_damping,
+                                      self._wbuf)
         integrate.step(st, dt, mass_damping=o.mass_damping, local_damping=o.local_damping,
                        contact_force=self._cforce if self.contact else None, bbar=o.bbar,
                        external=self._external,

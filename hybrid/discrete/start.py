@@ -9,9 +9,10 @@ What is carried:
     (the local L2 projection onto constants) at every discrete Gauss point, and the maximum
     plastic strain / any yielded point of the cell;
   * the snapshot's materials (the strengths in force), supports (the nodes on the boundary
-    are held in the directions given), surface loads (consistent nodal forces on each
-    boundary edge of its element, at the current geometry, kept in ``load_forces`` so that a
-    load history can scale them), gravity;
+    are held in the directions given; a straight roller boundary also becomes a smooth
+    rigid wall for every element, ``hybrid.discrete.contact.walls``), surface loads
+    (consistent nodal forces on each boundary edge of its element, at the current geometry,
+    kept in ``load_forces`` so that a load history can scale them), gravity;
   * velocities start at zero.
 The quadratic continuum field becomes linear elements with a constant stress: the start is
 close to, not exactly in, its own equilibrium (:func:`hybrid.discrete.settle.settle` brings it
@@ -103,6 +104,7 @@ def start_from_snapshot(snapshot: CellSnapshot, *, splittable: np.ndarray,
     for name, held_x, held_y in s.supports:
         nodes = boundary_nodes.get(name, np.zeros(0, dtype=np.int64))
         disc.fix(nodes, x=held_x, y=held_y)
+    disc.walls, disc.wall_nodes = _walls(s, disc, boundary_nodes)
     disc.external_force[:] = load_forces
     disc.primed = False
     report = {"elements": int(disc.n_elements), "nodes": int(disc.n_nodes),
@@ -117,6 +119,33 @@ def start_from_snapshot(snapshot: CellSnapshot, *, splittable: np.ndarray,
                                      "psi_deg": m.psi} for m in s.materials if m.is_plastic}}
     return Handover(disc, splittable, frozen, load_forces, boundary_nodes, report,
                     tuple(s.material_names))
+
+
+def _walls(s: CellSnapshot, disc: DiscreteState,
+           boundary_nodes: dict[str, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+    """The smooth walls of the straight roller boundaries and their support nodes.
+
+    ``contact.walls.make_wall``; the body's side is that of the centroids of the elements
+    along the boundary, the support nodes the boundary's.
+    """
+    from hybrid.discrete.contact.walls import WALL_WIDTH, make_wall
+
+    rows: list[np.ndarray] = []
+    nodes_of: list[np.ndarray] = []
+    held = {name: (hx, hy) for name, hx, hy in s.supports}
+    centroids = disc.element_centroids()
+    for name in s.smooth:
+        nodes = boundary_nodes.get(name)
+        if nodes is None or not nodes.size or name not in held:
+            continue
+        axis = 0 if held[name][0] else 1
+        elements = np.unique([int(e) for _, _, e in s.boundary_edges[name]])
+        wall = make_wall(disc.x[nodes], centroids[elements].mean(axis=0), axis)
+        if wall is not None:
+            nodes_of.append(np.column_stack([np.full(nodes.size, len(rows)), nodes]))
+            rows.append(wall)
+    wall_nodes = (np.concatenate(nodes_of) if nodes_of else np.zeros((0, 2))).astype(np.int64)
+    return np.array(rows, dtype=float).reshape(-1, WALL_WIDTH), wall_nodes
 
 
 def _boundaries(s: CellSnapshot, disc: DiscreteState) -> tuple[dict[str, np.ndarray],

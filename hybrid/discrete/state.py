@@ -131,6 +131,12 @@ class DiscreteState:
     #     fragment responds elastically [-]: inf until the element has distorted as far as an
     #     element follows the flow, then the largest plastic strain of its points at that
     #     moment, for good; its splittable bonds fail (``ties.DISTORTION_LIMIT``)
+    walls: np.ndarray = MADE_ON_CREATION  # (n_walls, 5) smooth rigid walls [n_x, n_y, c, s_min,
+    #     s_max]: the planes of the roller supports, frictionless contact for every element
+    #     (``contact.walls``); none by default
+    wall_nodes: np.ndarray = MADE_ON_CREATION  # (n, 2) int64 [wall row, node]: the support
+    #     nodes each wall belongs to; a wall goes when none of them is held along its normal
+    #     (a wall with none listed stands for good)
 
     def __post_init__(self) -> None:
         n = self.x.shape[0]
@@ -153,6 +159,10 @@ class DiscreteState:
             self.element_length = characteristic_length(self.x_ref, self.element_nodes)
         if self.fragment_cap is None:
             self.fragment_cap = np.full(self.element_nodes.shape[0], np.inf)
+        if self.walls is None:
+            self.walls = np.zeros((0, 5))
+        if self.wall_nodes is None:
+            self.wall_nodes = np.zeros((0, 2), dtype=np.int64)
         if self.material_table.ndim != 2 or self.material_table.shape[1] != TABLE_WIDTH:
             raise ValueError(f"material_table has shape {self.material_table.shape}; need "
                              f"(n_mat, {TABLE_WIDTH}) rows from kernel_table (a checkpoint "
@@ -278,7 +288,8 @@ _SMALL_CHECKPOINT = 64 * 2**20  # [bytes]
 
 #: the checkpoint's fields: (dtype kind, shape in the state's sizes); sizes: N nodes,
 #: E elements, G gauss points per element (4 Q4, 1 T3), K nodes per element (4 Q4, 3 T3),
-#: M materials, S tie groups, I interfaces, P contact pairs, L rigid links, W table width
+#: M materials, S tie groups, I interfaces, P contact pairs, L rigid links, W table width,
+#: B walls, BN wall nodes
 _LAYOUT: dict[str, tuple[str, tuple[str | int, ...]]] = {
     "x": ("f8", ("N", 2)), "x_ref": ("f8", ("N", 2)), "v": ("f8", ("N", 2)),
     "mass": ("f8", ("N",)), "element_nodes": ("i8", ("E", "K")),
@@ -297,11 +308,12 @@ _LAYOUT: dict[str, tuple[str, tuple[str | int, ...]]] = {
     "contact_pairs": ("i8", ("P", 2)), "contact_shear": ("f8", ("P", 2)),
     "primed": ("b1", ()), "dt": ("f8", ()), "rigid_links": ("i8", ("L", 2)),
     "element_length": ("f8", ("E",)), "fragment_cap": ("f8", ("E",)),
+    "walls": ("f8", ("B", 5)), "wall_nodes": ("i8", ("BN", 2)),
 }
 #: index arrays and the size their entries index
 _INDEX_RANGE = {"element_nodes": "N", "element_material": "M", "node_group": "S",
                 "group_nodes": "N", "interface_elements": "E", "interface_nodes": "N",
-                "contact_pairs": "E", "rigid_links": "N"}
+                "contact_pairs": "E", "rigid_links": "N", "wall_nodes": "N"}
 
 
 def _headers(path: Path, fh: Any) -> dict[str, tuple[tuple[int, ...], np.dtype]]:
@@ -353,6 +365,8 @@ def _sizes(path: Path, heads: dict[str, tuple[tuple[int, ...], np.dtype]]) -> di
             "I": dim("interface_elements", 0),
             "P": dim("contact_pairs", 0) if "contact_pairs" in heads else 0,
             "L": dim("rigid_links", 0) if "rigid_links" in heads else 0, "W": TABLE_WIDTH,
+            "B": dim("walls", 0) if "walls" in heads else 0,
+            "BN": dim("wall_nodes", 0) if "wall_nodes" in heads else 0,
             "S+1": dim("group_ptr", 0)}
 
 
@@ -425,6 +439,13 @@ def _read_checkpoint(path: Path, fh: Any) -> tuple[dict[str, Any], dict[str, np.
                              ">= 0; the file is damaged")
     if arrays["step"] < 0:
         raise ValueError(f"checkpoint {path}: step = {arrays['step']} must be >= 0")
+    if "walls" in arrays and not np.isfinite(arrays["walls"]).all():
+        raise ValueError(f"checkpoint {path}: walls hold non-finite values; the file is "
+                         "damaged")
+    if "wall_nodes" in arrays and arrays["wall_nodes"].size and (
+            arrays["wall_nodes"][:, 0].max() >= sizes["B"]):
+        raise ValueError(f"checkpoint {path}: wall_nodes name walls beyond the "
+                         f"{sizes['B']} walls; the file is damaged")
     kw: dict[str, Any] = {}
     for name in names:
         a = arrays.pop(name)

@@ -24,7 +24,9 @@ Modules:
 * ``forces``: the parallel loop over the pairs, ``contact_forces`` (checked) and
   ``add_contact_forces`` (unchecked, with caller-owned ``ContactBuffers``: the hot path),
   ``rigid_contact_mass``;
-* ``energy``: ``contact_energy``, ``mid_step_work``.
+* ``energy``: ``contact_energy``, ``mid_step_work``;
+* ``walls``: the smooth rigid walls of the roller supports (``DiscreteState.walls``), a
+  frictionless contact for every element, ``add_wall_forces``, ``wall_energy``.
 """
 
 from hybrid.discrete.contact.broad_phase import carry_contact_history, find_contact_pairs
