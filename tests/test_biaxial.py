@@ -16,9 +16,9 @@ from hybrid.discrete import biaxial as bx
 def test_small_packing_starts_isotropic_and_interlocks():
     """Eight grains across, contact angle 5 deg, 12 % axial strain at I = 2e-3: the first
     check (axial strain 2e-4) is still the isotropic start (mobilised angle below 2 deg: the
-    prestress, the membrane and the stress measure agree), and the peak bulk angle exceeds the contact angle
-    by more than 5 deg: angular grains interlock, which is why the contact angle must be
-    calibrated rather than set to the material's."""
+    prestress, the membrane and the stress measure agree), and the peak bulk angle exceeds
+    the contact angle by more than 5 deg: angular grains interlock, which is why the contact
+    angle must be calibrated rather than set to the material's."""
     r = bx.biaxial_test(5.0, cells_across=8, final_strain=0.12, critical_window=(0.06, 0.12),
                         inertial_number=2e-3)
     assert r.strain[0] < 1e-3 and r.phi_mob[0] < 2.0
