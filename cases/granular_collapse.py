@@ -15,13 +15,19 @@ Set-up
        and back wall smooth rollers, the base bonded to the floor).
     2. Handover: every cell an element with its stress. The column is a packing of elastic
        grains (``cells`` = "triangle", unstructured, of size L0 / ``nx``: grains of random
-       shapes and orientations) bonded by interfaces without cohesion and tensile strength
-       (phi = 19.8 deg): they fail as soon as they open or slide, and from then on the grains
-       meet by contact with Coulomb friction at the same angle (shear contact stiffness
-       k_t = k_n / 10, the thesis's ratio). The floor and the wall are held; the column's
-       interfaces with them split as its own do (a rough floor and a rough wall, both at 19.8
-       deg). The grains themselves stay elastic: the flow is grains sliding and rolling on
-       each other, not plastic flow inside elements.
+       shapes and orientations) bonded by interfaces without cohesion and tensile strength:
+       they fail as soon as they open or slide, and from then on the grains meet by contact
+       with Coulomb friction (shear contact stiffness k_t = k_n / 10, the thesis's ratio).
+       The grains' contact angle (and their bonds') is not the material's friction angle
+       ``phi``: a packing of angular triangles is stronger in bulk than its contacts. It is
+       calibrated as DEM practice does, so that the packing's critical-state bulk angle in a
+       plane-strain biaxial test equals ``phi``
+       (``hybrid.discrete.biaxial.contact_friction``: 19.8 deg in bulk takes a smaller
+       contact angle); ``contact_phi`` overrides it. The floor and the wall are held; the
+       column's interfaces with them split as its own do, and a grain on them slides at the
+       contact angle too (a contact takes the smaller of its two materials' angles). The
+       grains themselves stay elastic: the flow is grains sliding and rolling on each other,
+       not plastic flow inside elements.
     3. Discrete: the gate is removed (its rollers released) at t = 0 and the run followed until
        rest (E_kin <= ``rest`` x its peak). No mass damping: nothing in the experiment resists
        the flight of a grain (air drag on a 1 mm bar at 1 m/s is negligible). Collisions
@@ -56,6 +62,7 @@ import numpy as np
 from hybrid import references as ref
 from hybrid.continuum import solve_elastic
 from hybrid.discrete import ties
+from hybrid.discrete.biaxial import contact_friction
 from hybrid.discrete.energy import conservation_checks, energy_peak_ratio
 from hybrid.discrete.figures import plot_configuration
 from hybrid.discrete.measures import deposit
@@ -83,7 +90,9 @@ class Parameters(CaseParameters):
     density: float = param(2.65, gt=0)  # [t/m3]
     E: float = param(840.0, gt=0)  # Young's modulus [kPa]
     nu: float = param(0.3, ge=0, lt=0.5)  # Poisson's ratio [-]
-    phi: float = param(19.8, gt=0, lt=90)  # friction angle of the bonds and contacts [deg]
+    phi: float = param(19.8, gt=0, lt=90)  # the material's (bulk) friction angle [deg]
+    contact_phi: float | None = param(None, ge=0, lt=90)  # grains' contact and bond angle [deg]
+    #     (None: the angle whose packing has the bulk angle phi, hybrid.discrete.biaxial)
     contact_damping: float = param(0.3, ge=0, le=1)  # normal contact damping ratio zeta [-]
     rest: float = param(1e-4, gt=0)  # stop when E_kin <= rest x max(peak E_kin, E_strain) [-]
     t_end: float = param(5.0, gt=0)  # time limit [s]
@@ -123,10 +132,11 @@ def main(out: str | Path = "results/granular_collapse", **overrides) -> CaseSumm
                       runway=floor_end, wall=2.0 * size, depth=2.0 * size, cells=p.cells,
                       structured=p.structured)
     kn = 10.0 * p.E / size  # the default normal contact stiffness, written out for k_t
-    contact = Contact(phi=p.phi, damping=p.contact_damping, normal_stiffness=kn,
+    phi_c = contact_friction(p.phi) if p.contact_phi is None else p.contact_phi
+    contact = Contact(phi=phi_c, damping=p.contact_damping, normal_stiffness=kn,
                       shear_stiffness=kn / 10.0)
     grains = Material(name="column", E=p.E, nu=p.nu, density=p.density, plastic=False,
-                      bond=Bond(cohesion=0.0, phi=p.phi, tensile_strength=0.0),
+                      bond=Bond(cohesion=0.0, phi=phi_c, tensile_strength=0.0),
                       contact=contact)
     support = Material(name="support", E=p.E, nu=p.nu, density=p.density, plastic=False,
                        contact=contact)
@@ -138,6 +148,9 @@ def main(out: str | Path = "results/granular_collapse", **overrides) -> CaseSumm
     hand = to_discrete(state, region=Region(group="column"))
     disc = hand.discrete
     summary["handover"] = hand.report
+    summary["grains"] = {"bulk_phi_deg": p.phi, "contact_phi_deg": phi_c,
+                         "contact_phi_from": "parameter contact_phi" if p.contact_phi is not None
+                         else "hybrid.discrete.biaxial.contact_friction(phi)"}
     column = hand.splittable.copy()
     ties.limit_splitting(disc, column)
     disc.fix(np.unique(disc.element_nodes[~column]))
@@ -197,7 +210,12 @@ def main(out: str | Path = "results/granular_collapse", **overrides) -> CaseSumm
 
 
 def plot_deposits(path: str | Path, summaries: list[dict]) -> Path:
-    """The final surfaces of several runs (summary.json contents), normalised by L0."""
+    """The final surfaces of several runs (summary.json contents), normalised by L0.
+
+    Beside the run of Bui et al.'s (2008) column (a = 0.5, L0 = 0.2 m) their measured final
+    surface (``hybrid.references.bui2008_final_surface``); beside the others the rods'
+    run-out.
+    """
     import matplotlib
 
     matplotlib.use("Agg")
@@ -211,6 +229,12 @@ def plot_deposits(path: str | Path, summaries: list[dict]) -> Path:
         y = np.concatenate([[prof[0, 1]], prof[:, 1], [0.0]])
         line, = ax.plot(x, y, label=f"a = {a:g}: computed")
         ax.plot([0, 1, 1], [a, a, 0], ls=":", color=line.get_color(), lw=0.8)
+        bui = ref.bui2008_collapse()
+        if a == bui.aspect and L0 == bui.length:
+            meas = np.asarray(ref.bui2008_final_surface()) / L0
+            ax.plot(meas[:, 0], meas[:, 1], ls="none", marker="D", ms=3,
+                    color=line.get_color(),
+                    label=f"a = {a:g}: Bui et al. (2008), measured (digitised)")
         rods = s["deposit"]["references"]["rods2015_runout"]
         if rods is not None:
             ax.plot([1.0 + rods], [0.0], marker="v", ms=8, color=line.get_color(),

@@ -50,6 +50,12 @@ def test_granular_collapse_coarse(case, tmp_path):
         assert s["discrete"]["stop"] == "rest"
         assert s["discrete"]["interfaces_failed"] > 0
         assert s["deposit"]["runout_m"] > s["parameters"]["length"]  # it spread
+    from hybrid.discrete.biaxial import contact_friction
+
+    for s in runs.values():  # the grains' contact angle is the calibrated one, not phi
+        grains = s["grains"]
+        assert grains["bulk_phi_deg"] == s["parameters"]["phi"]
+        assert grains["contact_phi_deg"] == contact_friction(s["parameters"]["phi"])
     low, tall = runs[0.5]["deposit"], runs[1.5]["deposit"]
     assert tall["normalised_runout"] > low["normalised_runout"]
     assert tall["height_over_H0"] < low["height_over_H0"]

@@ -2,6 +2,7 @@
 (2008) aluminium-bar experiment (geometry and material). Which numbers are primary and which
 secondary is in each test."""
 
+import numpy as np
 import pytest
 
 from hybrid import references as ref
@@ -82,3 +83,21 @@ def test_bui2008_geometry_and_material():
     bulk = exp.youngs_modulus / (3.0 * (1.0 - 2.0 * exp.poisson))
     assert bulk == pytest.approx(700.0, rel=1e-12)
     assert exp.unit_weight == pytest.approx(26.0, abs=0.01)
+
+
+def test_bui2008_final_surface_fits_the_column():
+    """The digitised final surface belongs to the column of ``bui2008_collapse``: it starts at
+    the back wall at the column's height (a = 0.5 < 0.65: the deposit keeps H0, as the rods'
+    law says), ends on the floor, runs along the flow and goes down it (within the digitising
+    scatter of 0.1 mm), and holds the column's area (mass conserved, packing unchanged, within
+    the 10 % that digitising and dilation allow)."""
+    exp = ref.bui2008_collapse()
+    pts = np.array(ref.bui2008_final_surface())
+    x, y = pts[:, 0], pts[:, 1]
+    assert x[0] == pytest.approx(0.0, abs=0.001)
+    assert y[0] == pytest.approx(exp.height * ref.granular_final_height_rods2015(exp.aspect),
+                                 rel=0.01)
+    assert y[-1] < 0.02 * exp.height
+    assert np.all(np.diff(x) > 0) and np.all(np.diff(y) < 1e-4)
+    area = float(np.sum(0.5 * (y[1:] + y[:-1]) * np.diff(x)))
+    assert area == pytest.approx(exp.length * exp.height, rel=0.10)

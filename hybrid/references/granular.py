@@ -29,8 +29,9 @@ from hybrid.references._common import positive
 #   collapses of aluminium rods (true 2-D grains, the material of Bui et al. 2008). The laws
 #   below are stated in its abstract (text, read as mirrored at koineu.com); the author list
 #   and journal version were not verified here.
-# - Bui, Fukagawa, Sako & Ohno (2008): see :func:`bui2008_collapse` (geometry and material
-#   only: the measured profile is not shipped).
+# - Bui, Fukagawa, Sako & Ohno (2008): see :func:`bui2008_collapse` (geometry and material)
+#   and :func:`bui2008_final_surface` (the measured final surface, as digitised by a third
+#   party).
 #
 # Not encoded, because no value could be verified: Lajeunesse, Monnier & Homsy (2005), Phys.
 # Fluids 17, 103302 (glass beads in a rectangular channel; its abstract gives only the form of
@@ -222,9 +223,10 @@ def bui2008_collapse() -> CollapseExperiment:
       700 kPa = 840 / (3 (1 - 2 x 0.3))). These are the simulation's parameters; 2650 kg/m3
       is close to solid aluminium, not a measured bulk density of the bar packing.
 
-    Not found: the bar diameters and lengths, the packing, how the wall was removed, and any
-    run-out or height the paper states in its text. The measured final profile is known here
-    only as digitised from a figure by a third party, which is not shipped.
+    Not found: the bar diameters and lengths, the packing, how the wall was removed, how the
+    friction angle was measured, and any run-out or height the paper states in its text. The
+    measured final surface is known here only as digitised from a figure by a third party
+    (:func:`bui2008_final_surface`).
 
     Returns:
         The experiment as a :class:`CollapseExperiment`.
@@ -239,3 +241,37 @@ def bui2008_collapse() -> CollapseExperiment:
         notes="material values are the simulation's (secondary); bar size, packing and wall "
               "removal not found",
     )
+
+
+#: Bui et al.'s (2008) measured final surface of the a = 0.5 column, (x, y) [m] from the back
+#: wall: the points of MaterialPointSolver.jl (github.com/LandslideSIM/MaterialPointSolver.jl,
+#: docs/src/assets/data/2d_collapse_experiments/surface.csv, commit 932e6c77), which its
+#: "2D Soil Collapse Test" documentation draws, as the experiment, over its simulation of Bui
+#: et al.'s test (it cites the paper for the test). Digitised from the paper's figure by that
+#: project, not read in the paper here: an accuracy of about a millimetre at best.
+_BUI2008_SURFACE = (
+    (0.00012288, 0.099231753), (0.019603788, 0.099281704), (0.03983696, 0.095872045),
+    (0.060043158, 0.089000779), (0.080267338, 0.084437251), (0.100083918, 0.077564986),
+    (0.120302104, 0.072232212), (0.140127675, 0.066513816), (0.160348858, 0.061565666),
+    (0.180159444, 0.053924154), (0.199979021, 0.047436512), (0.220200204, 0.042488361),
+    (0.240790026, 0.034848848), (0.262186058, 0.030672941), (0.282023617, 0.026493037),
+    (0.3022448, 0.021544886), (0.322094348, 0.018903475), (0.342312534, 0.013570701),
+    (0.362162081, 0.010929289), (0.38239825, 0.007904254), (0.402235809, 0.00372435),
+    (0.422094348, 0.002236808), (0.442348498, 0.001519511),
+)
+
+
+def bui2008_final_surface() -> tuple[tuple[float, float], ...]:
+    """The measured final surface of Bui et al.'s (2008) column (a = 0.5), (x, y) [m].
+
+    x from the back wall along the flow, y above the floor, from the wall (y = 0.099 m: the
+    column's height H0 = 0.1 m kept there) to the toe (x = 0.442 m, y = 0.0015 m: the
+    run-out, (L_inf - L0) / L0 = 1.21). SECONDARY: digitised from the paper's figure by a
+    third party (MaterialPointSolver.jl's documentation data,
+    docs/src/assets/data/2d_collapse_experiments/surface.csv, drawn there as the experiment of
+    Bui et al. 2008); the paper itself was not read.
+
+    Returns:
+        The points, ordered by x.
+    """
+    return _BUI2008_SURFACE
