@@ -35,8 +35,8 @@ Verification (H2 has no closed form)
     estimates, the settlement at unloading, heave beside the footing, failed interfaces.
     Mesh study (docs/hybrid.md, "Mesh sensitivity"): the collapse load within 3 % on the
     default, refined and structured quadrilateral meshes; the settlement and heave at rest
-    move by more than 10 % between meshes, and on the structured mesh the punch creeps on
-    after unloading without coming to rest (not verified).
+    move by more than 10 % between meshes, and the structured mesh settles further than the
+    unstructured ones (not verified).
 References
     G. S. Bala (2008), thesis, section 5.4.1 (the footing is loaded to 1 800 kPa there).
 """

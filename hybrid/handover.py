@@ -146,12 +146,18 @@ def discrete_materials(snapshot: CellSnapshot,
 
     E.g. strengths that soften once the failed mass moves, after a construction at peak
     strength. ``materials`` maps a cell-group name to its material; a lift ("core:2") takes its
-    group's ("core"), a group not named keeps the continuum's. The stresses are handed over
+    group's ("core"), a group not named keeps the continuum's, a name that is no group is
+    refused (ValueError). The stresses are handed over
     as they are, so a replacement keeps E, nu and the density of the material it replaces
     (a ValueError names the first that differs); its strengths are divided by the snapshot's
     ``strength_factor`` as the continuum's were. The continuum's plastic strain counts
     towards a softening law from the start.
     """
+    groups = {name.split(":")[0] for name in snapshot.material_names}
+    unknown = sorted(set(materials) - groups)
+    if unknown:
+        raise ValueError(f"discrete materials for {unknown}: no such cell group (the groups: "
+                         f"{sorted(groups)}; a lift takes its group's material)")
     out = []
     for old, name in zip(snapshot.materials, snapshot.material_names):
         new = materials.get(name.split(":")[0])

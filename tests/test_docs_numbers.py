@@ -418,9 +418,10 @@ QUOTES: list[Quote] = [
                     for v in (r1(run)["deposit"]["normalised_runout"],
                               r1(run)["deposit"]["height_over_H0"])])
       for a in ("0.5", "1", "2")],
-    ("docs/hybrid.md", "(L_inf by {} % and {} % from L0 / 20 to L0 / 30 at a = 1 and 2)",
+    ("docs/hybrid.md", "(L_inf by {} %, {} % and {} % from L0 / 20 to L0 / 30 at a = 0.5, 1 "
+     "and 2)",
      lambda: [100.0 * (r1(f"a{a}_nx30")["deposit"]["runout_m"] / r1(f"a{a}")["deposit"][
-         "runout_m"] - 1.0) for a in ("1", "2")]),
+         "runout_m"] - 1.0) for a in ("0.5", "1", "2")]),
 ]
 
 

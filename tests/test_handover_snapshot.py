@@ -149,6 +149,8 @@ def test_discrete_materials_replace_a_group_lifts_included():
     with pytest.raises(ValueError, match="E = 200000.0 differs from the continuum's"):
         discrete_materials(snap, {"core": Material(name="core", E=2e5, nu=0.3,
                                                    unit_weight=20.0, cohesion=50.0)})
+    with pytest.raises(ValueError, match=r"\['core:2'\]: no such cell group"):
+        discrete_materials(snap, {"core:2": soft})
     with pytest.raises(ValueError, match="density"):
         discrete_materials(snap, {"core": Material(name="core", E=1e5, nu=0.3,
                                                    unit_weight=19.0, cohesion=50.0)})

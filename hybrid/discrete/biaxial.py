@@ -56,10 +56,11 @@ CALIBRATION_COMMAND = "python -m hybrid.discrete.biaxial"
 #: packing of :data:`CALIBRATION_PACKINGS`), the output of :data:`CALIBRATION_COMMAND` at the
 #: defaults of :func:`biaxial_test` (pressure 1 kPa, I = 1e-3, local damping 0.7, axial
 #: strain 15 to 25 %; grains of R1: E = 840 kPa, nu = 0.3, 2.65 t/m3, contact damping 0.3,
-#: k_t = k_n / 10), one thread. The packings differ by 7 to 8 deg at every angle, with no
+#: k_t = k_n / 10), one thread. The packings differ by 7 to 9 deg at every angle, with no
 #: trend in the specimen's width (10, 14, 20 grains across weaker in turn, 28 the strongest,
 #: its window the noisiest): the curve is the mean, known to about +- 2 deg (the standard
-#: error of four packings), which is +- 2 deg in the contact angle.
+#: error of four packings), which is +- 2 deg in the contact angle; one packing alone may
+#: lie 4 deg either side of it.
 CALIBRATION: tuple[tuple[float, tuple[float, ...]], ...] = (
     (10, (20.25, 16.99, 14.78, 22.16)),
     (15, (26.11, 22.5, 19.64, 28.89)),
@@ -308,7 +309,8 @@ def contact_friction(phi_bulk: float) -> float:
     if not b[0] <= phi_bulk <= b[-1]:
         raise ValueError(f"phi_bulk = {phi_bulk:g} deg is outside the calibrated bulk angles "
                          f"{b[0]:.3g}..{b[-1]:.3g} deg (contact angles {c[0]:g}..{c[-1]:g} deg; "
-                         f"{CALIBRATION_COMMAND})")
+                         f"{CALIBRATION_COMMAND}); a case can give the contact angle "
+                         "itself instead (granular_collapse: --set contact_phi=...)")
     return float(np.interp(phi_bulk, b, c))
 
 
