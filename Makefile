@@ -78,6 +78,12 @@ docs: setup
 	$(PY) -m hybrid run cases/carsington.py --out $(DOCS_RUN)/carsington_discrete_softening \
 	    --overwrite --set progress=false --set safety=false --set discrete_softening=true \
 	    || [ $$? -eq 4 ] || exit 1
+	# from the design height: the section with 30 m of yellow clay stands to the crest with
+	# Table 6.3; its discrete phase as it is and with softening
+	for run in "design_height" "design_height_softening --set discrete_softening=true"; do \
+	    set -- $$run; $(PY) -m hybrid run cases/carsington.py \
+	    --out $(DOCS_RUN)/carsington_$$1 --overwrite --set progress=false --set safety=false \
+	    --set yellow_clay_length=30 $$2 $$3 || [ $$? -eq 4 ] || exit 1; done
 	# the discrete phase's sensitivity to mass damping (default none; the thesis ran 3 /s)
 	for md in 0.5 3; do $(PY) -m hybrid run cases/carsington.py \
 	    --out $(DOCS_RUN)/carsington_damping$$md --overwrite --set progress=false \
@@ -109,7 +115,8 @@ docs: setup
 	    cp $(DOCS_RUN)/$$c/summary.json docs/summaries/$$c.json; done
 	for c in h2 h3 d10 carsington carsington_last_lift carsington_softening \
 	    carsington_softening_ur0.2 carsington_softening_ur1 carsington_softening_size4 \
-	    carsington_damping0.5 carsington_damping3 carsington_discrete_softening; do \
+	    carsington_damping0.5 carsington_damping3 carsington_discrete_softening \
+	    carsington_design_height carsington_design_height_softening; do \
 	    cp $(DOCS_RUN)/$$c/summary.json docs/summaries/$$c.json; done
 	for f in end_of_construction_yielded end_of_construction_sigma_yy \
 	    end_of_construction_sigma_xx core_displacement_vs_fill_level discrete_final; do \
