@@ -165,6 +165,12 @@ QUOTES: list[Quote] = [
      lambda: [carsington()["continuum_wall_time_s"],
               carsington()["factor_of_safety"]["wall_time_s"],
               carsington()["discrete"]["phase_wall_time_s"]]),
+    ("docs/carsington.md", "| from the design height ({} m of yellow clay: the section stands "
+     "to the crest) | {} | {} | {} | {} |",
+     lambda: [_json("docs/summaries/carsington_design_height.json")["parameters"][
+         "yellow_clay_length"], *_cars_discrete("carsington_design_height")]),
+    ("docs/carsington.md", "| from the design height, softening in the discrete phase | {} | {} | "
+     "{} | {} |", lambda: _cars_discrete("carsington_design_height_softening")),
     ("docs/carsington.md", "| upstream toe movement | not measured | {} m |",
      lambda: [carsington()["discrete"]["toe_runout_m"]]),
     ("docs/carsington.md", "| crest drop | not measured | {} m |",
