@@ -166,3 +166,23 @@ def test_wall_bounce_identical_with_one_and_two_threads():
         numba.set_num_threads(old)
     for name in ("x", "v", "stress", "ledger", "group_energy"):
         assert np.array_equal(getattr(out[1], name), getattr(out[2], name)), name
+
+
+@pytest.mark.parametrize("walls, wall_nodes, message", [
+    ([[0.6, 0.0, 0.0, -3.0, 2.0]], None, "wall 0: its normal .* is not a unit vector"),
+    ([[1.0, 0.0, np.nan, -3.0, 2.0]], None, "wall 0 holds non-finite values"),
+    ([[1.0, 0.0, 0.0, 2.0, -3.0]], None, r"wall 0: s_min = 2.0 > s_max = -3.0"),
+    ([[1.0, 0.0, 0.0, -3.0, 2.0]], [[1, 0]], "wall_nodes names a wall outside 0..0"),
+    ([[1.0, 0.0, 0.0, -3.0]], None, r"walls has shape \(1, 4\)"),
+])
+def test_a_malformed_wall_is_refused_before_the_run(walls, wall_nodes, message):
+    """The kernel takes a wall's row as given (a unit normal, an ordered span): a run with a
+    wall that is not so is refused with what is wrong, before any step."""
+    st, _ = _thrown_block(0.0)
+    st.walls = np.array(walls, dtype=float)
+    if wall_nodes is not None:
+        st.wall_nodes = np.array(wall_nodes, dtype=np.int64)
+    with pytest.raises(ValueError, match=f"discrete run refused: {message}"):
+        with ExplicitSolver(st, RunOptions(contact=True)) as solver:
+            solver.run(until_time=0.01)
+    assert st.step == 0

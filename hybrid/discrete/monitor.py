@@ -10,6 +10,8 @@ check's energy ledger to a run's history.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from hybrid.discrete import integrate
@@ -17,8 +19,8 @@ from hybrid.discrete.ledger import EnergyLedger
 from hybrid.discrete.state import DiscreteState
 from hybrid.errors import RunUnstable
 
-__all__ = ["RUNAWAY_MARGIN", "Monitor", "check_distortion", "input_fault", "raise_non_finite",
-           "record_check"]
+__all__ = ["RUNAWAY_MARGIN", "Monitor", "check_distortion", "input_fault", "wall_fault",
+           "raise_non_finite", "record_check"]
 
 
 def record_check(hist: dict[str, list[float]], state: DiscreteState, led: EnergyLedger,
@@ -37,8 +39,9 @@ def input_fault(state: DiscreteState) -> str | None:
     """What in the state's inputs makes a run meaningless (None: nothing found).
 
     Non-finite gravity, external forces, prescribed velocities or masses, a contact damping
-    ratio outside [0, 1], and tie groups with no mass that are free to move (their
-    acceleration would be a force over zero).
+    ratio outside [0, 1], malformed smooth walls (non-finite, a normal that is not a unit
+    vector, s_min > s_max, wall nodes out of range), and tie groups with no mass that are
+    free to move (their acceleration would be a force over zero).
     """
     for name in ("gravity", "external_force", "prescribed_velocity", "mass"):
         values = np.asarray(getattr(state, name))
@@ -54,6 +57,9 @@ def input_fault(state: DiscreteState) -> str | None:
         m = int(np.argmax(bad_zeta))
         return (f"contact damping ratio {zeta[m]!r} of material {m} is outside [0, 1] (above "
                 "1 the contact damping forces push the bodies apart and create energy)")
+    fault = wall_fault(state)
+    if fault is not None:
+        return fault
     free = ~state.fixed.all(axis=1)
     group_free = np.zeros(state.n_groups, dtype=bool)
     np.logical_or.at(group_free, state.node_group, free)
@@ -63,6 +69,35 @@ def input_fault(state: DiscreteState) -> str | None:
         return (f"{int(massless.sum())} tie group(s) free to move have no mass (group {g}, "
                 f"nodes {state.group_nodes[state.group_ptr[g]:state.group_ptr[g + 1]].tolist()[:6]}"
                 "): give their material a density > 0 or hold them")
+    return None
+
+
+def wall_fault(state: DiscreteState) -> str | None:
+    """What is wrong with the state's smooth walls (``contact.walls``; None: nothing).
+
+    Each row [n_x, n_y, c, s_min, s_max] needs finite entries, a unit normal and
+    s_min <= s_max; each ``wall_nodes`` row [wall, node] a wall and a node that exist.
+    """
+    walls = np.asarray(state.walls)
+    if walls.ndim != 2 or walls.shape[1] != 5:
+        return (f"walls has shape {walls.shape}: give (n_walls, 5) rows [n_x, n_y, c, s_min, "
+                "s_max] (contact.walls.make_wall)")
+    for k, (nx, ny, c, lo, hi) in enumerate(walls):
+        if not np.isfinite([nx, ny, c]).all() or np.isnan([lo, hi]).any():
+            return f"wall {k} holds non-finite values {walls[k].tolist()}: give finite numbers"
+        if abs(math.hypot(nx, ny) - 1.0) > 1e-9:
+            return (f"wall {k}: its normal ({nx!r}, {ny!r}) is not a unit vector: divide it by "
+                    "its length (and c with it)")
+        if lo > hi:
+            return f"wall {k}: s_min = {lo!r} > s_max = {hi!r}: swap them"
+    nodes = np.asarray(state.wall_nodes)
+    if nodes.ndim != 2 or nodes.shape[1] != 2:
+        return f"wall_nodes has shape {nodes.shape}: give (n, 2) rows [wall, node]"
+    if nodes.size and not ((nodes[:, 0] >= 0).all() and (nodes[:, 0] < walls.shape[0]).all()
+                           and (nodes[:, 1] >= 0).all()
+                           and (nodes[:, 1] < state.x.shape[0]).all()):
+        return (f"wall_nodes names a wall outside 0..{walls.shape[0] - 1} or a node outside "
+                f"0..{state.x.shape[0] - 1}: give existing walls and nodes")
     return None
 
 

@@ -46,6 +46,7 @@ from hybrid.discrete.monitor import (
     input_fault,
     raise_non_finite,
     record_check,
+    wall_fault,
 )
 from hybrid.discrete.options import (
     HISTORY_KEYS,
@@ -290,6 +291,9 @@ class ExplicitSolver:
         self._cmass: np.ndarray = (
             self._cmod.rigid_contact_mass(st.mass, st.fixed, st.element_nodes) if self.contact
             else np.zeros(0))
+        fault = wall_fault(st)
+        if fault is not None:  # before held_walls reads them
+            raise ValueError(f"discrete run refused: {fault}")
         if st.walls.shape[0]:  # a released roller takes its wall with it
             from hybrid.discrete.contact.walls import held_walls
 
