@@ -204,17 +204,17 @@ def crack_from_top(state: DiscreteState, column: tuple[float, float], *, min_sli
     if column_nodes.size == 0:
         raise ValueError(f"crack_from_top: no node in the column {column} m")
     top = float(state.x_ref[column_nodes, 1].max())
-    candidate = np.flatnonzero(~state.interface_intact & in_column
-                               & (interface_slip(state) >= min_slip))
-    keys = [tuple(np.round(v, 9) for v in ends[i, k]) for i in candidate for k in (0, 1)]
+    slip = interface_slip(state)
+    candidate = np.flatnonzero(~state.interface_intact & in_column & (slip >= min_slip))
+    vertices = {int(i): [tuple(np.round(v, 9)) for v in ends[i]] for i in candidate}
     by_vertex: dict[tuple, list[int]] = {}
-    for j, key in enumerate(keys):
-        by_vertex.setdefault(key, []).append(int(candidate[j // 2]))
-    found = {int(i) for i in candidate if ends[i, :, 1].max() >= top - top_depth}
+    for i, pair in vertices.items():
+        for key in pair:
+            by_vertex.setdefault(key, []).append(i)
+    found = {i for i in vertices if ends[i, :, 1].max() >= top - top_depth}
     todo = list(found)
-    while todo:
-        i = todo.pop()
-        for key in (tuple(np.round(v, 9) for v in ends[i, k]) for k in (0, 1)):
+    while todo:  # grow through shared vertices
+        for key in vertices[todo.pop()]:
             for j in by_vertex[key]:
                 if j not in found:
                     found.add(j)
@@ -224,8 +224,7 @@ def crack_from_top(state: DiscreteState, column: tuple[float, float], *, min_sli
     if not found:
         return Crack(mask, top, 0.0, 0.0, 0.0)
     return Crack(mask, top, top - float(ends[mask, :, 1].min()),
-                 float(interface_opening(state)[mask].max()),
-                 float(interface_slip(state)[mask].max()))
+                 float(interface_opening(state)[mask].max()), float(slip[mask].max()))
 
 
 class SlopeMovement(NamedTuple):

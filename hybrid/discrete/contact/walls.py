@@ -42,7 +42,7 @@ import numpy as np
 from numba import njit
 
 import hybrid  # noqa: F401  (sets NUMBA_CACHE_DIR / OMP_WAIT_POLICY before numba compiles)
-from hybrid.discrete.contact.law import _shape_weights
+from hybrid.discrete.contact.law import _shape_weights, point_law
 
 __all__ = ["WALL_WIDTH", "WallBuffers", "add_wall_forces", "wall_energy", "make_wall",
            "held_walls"]
@@ -179,14 +179,15 @@ def _wall_kernel(x, v, mass, element_nodes, element_material, contact_table, fix
                 poly[a, 1] = x[i, 1]
                 me += mass[i]
             _shape_weights(poly, nen, gx, gy, w, 0)
-            vn = 0.0
+            vx = 0.0
+            vy = 0.0
             for a in range(nen):
                 i = element_nodes[e, a]
-                vn += w[0, a] * (nx * v[i, 0] + ny * v[i, 1])
-            f_el = kn * area
-            f_n = f_el - 2.0 * zeta * math.sqrt(kn * lc * me) * vn
-            if f_n < 0.0:
-                f_n = 0.0
+                vx += w[0, a] * v[i, 0]
+                vy += w[0, a] * v[i, 1]
+            # the pair law with the wall as the rigid side A: frictionless, no history
+            f_n, f_el = point_law(area, lc, nx, ny, vx, vy, me, kn, 0.0, 0.0, zeta, 0.0, 0.0,
+                                  dt)[:2]
             n_active += 1
             energy += kn * area * area / (2.0 * lc)
             if dt > 0.0:  # dt = 0: the energy only
