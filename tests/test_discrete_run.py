@@ -6,9 +6,10 @@ import pytest
 
 from hybrid.discrete import integrate, rectangle
 from hybrid.discrete.ledger import EnergyLedger
+from hybrid.discrete.options import REST_DRIFT, drift_ratio
 from hybrid.discrete.outputs import frame_interval, standard_outputs
 from hybrid.discrete.runs import run_to_rest
-from hybrid.discrete.solver import ExplicitSolver, RunOptions, run
+from hybrid.discrete.solver import ExplicitSolver, RunOptions, RunResult, run
 from hybrid.materials import Material
 
 MAT = Material(name="block", E=1.0e5, nu=0.25, density=2.0)
@@ -106,6 +107,47 @@ def test_rest_ratio_agrees_with_the_stop_at_rest():
     assert res.peak_kinetic > h["kinetic"].max()  # the start, before any check
     assert res.rest_ratio <= 1e-4
     assert res.rest_ratio == h["kinetic"][-1] / max(res.peak_kinetic, h["strain"][-1])
+    assert res.drift_ratio <= REST_DRIFT  # the other half of the stop
+
+
+def test_rest_waits_for_a_creeping_mass_under_heavy_mass_damping():
+    """An overdamped column (alpha = 2000 /s, about ten times its first frequency) creeps to
+    its settlement with a kinetic energy far below its strain energy: the kinetic-energy
+    ratio alone reads rest at 84 % of the settlement; with the work of gravity required to
+    have stopped too, the run ends within 0.1 % of the exact rho g H^2 / (2 M) (the
+    tolerance of dynamic relaxation to 1e-4 of the energy)."""
+    m_oed = 1.0e5 * 0.75 / (1.25 * 0.5)  # constrained modulus E (1 - nu) / ((1 + nu)(1 - 2 nu))
+    exact = 2.0 * 9.81 * 4.0 ** 2 / (2.0 * m_oed)
+
+    def settlement(rest_drift: float) -> tuple[float, RunResult]:
+        st = rectangle(1.0, 4.0, 1, 4, material=MAT)
+        st.fix(np.isclose(st.x_ref[:, 1], 0.0))
+        st.fix(np.ones(st.n_nodes, dtype=bool), x=True, y=False)  # oedometric column
+        with ExplicitSolver(st, RunOptions(mass_damping=2000.0)) as solver:
+            res = solver.run(until_rest=1e-4, max_steps=100000, rest_drift=rest_drift)
+        top = np.isclose(st.x_ref[:, 1], 4.0)
+        return float(-(st.x - st.x_ref)[top, 1].mean()), res
+
+    creeping, early = settlement(1e9)  # the kinetic-energy ratio alone
+    settled, res = settlement(REST_DRIFT)
+    assert early.stop_reason == res.stop_reason == "rest"
+    assert creeping < 0.9 * exact  # stopped while still creeping: the criterion matters
+    assert settled == pytest.approx(exact, rel=1e-3)
+    assert res.drift_ratio <= REST_DRIFT < early.drift_ratio
+
+
+def test_drift_ratio_reads_steady_work_and_ignores_vibration():
+    """Steady work at a constant rate over the run: the last tenth extrapolated to the run
+    gives exactly the work done (ratio 1); work that has stopped, with a vibration of 1e-4
+    of its amplitude on top, gives about that fraction times the extrapolation."""
+    t = np.linspace(0.0, 10.0, 1001)
+    assert drift_ratio(t, 3.0 * t, np.zeros_like(t), 0.0) == pytest.approx(1.0, rel=1e-12)
+    settled = 1.0 - np.exp(-3.0 * t) + 1e-4 * np.sin(40.0 * t)
+    assert drift_ratio(t, settled, np.zeros_like(t), 0.0) < 3e-3
+    # supports count as loads; a run in which nothing works is measured against the floor
+    assert drift_ratio(t, np.zeros_like(t), 3.0 * t, 0.0) == pytest.approx(1.0, rel=1e-12)
+    assert drift_ratio(t, np.zeros_like(t), np.zeros_like(t), 1.0) == 0.0
+    assert drift_ratio(t[:1], t[:1], t[:1], 1.0) == np.inf  # one check: not measurable
 
 
 def test_until_time_stops_there():
@@ -149,7 +191,7 @@ def test_run_to_rest_writes_the_standard_outputs(tmp_path):
     assert report["outputs"] == [str(p) for p in done.outputs]
     checks = done.checks()
     assert set(checks) == {"energy_excess_over_sources", "elements_conserved", "mass_conserved",
-                           "rest_kinetic_ratio"}
+                           "rest_kinetic_ratio", "rest_drift_ratio"}
     assert all(c.passed for c in checks.values())
     final = done.final_figure(tmp_path / "d_final.png")
     assert final == tmp_path / "d_final.png" and final.stat().st_size > 0
@@ -181,6 +223,8 @@ def test_bad_run_arguments():
     st = rectangle(1.0, 1.0, 1, 1, material=MAT)
     with pytest.raises(ValueError, match="until_time, max_steps, until_rest"):
         run(st)
+    with ExplicitSolver(st) as solver, pytest.raises(ValueError, match="rest_drift = 0.0"):
+        solver.run(until_rest=1e-4, max_steps=1, rest_drift=0.0)
     with pytest.raises(ValueError, match="local_damping"):
         run(st, max_steps=1, local_damping=1.5)
     with pytest.raises(ValueError, match="out_dir"):

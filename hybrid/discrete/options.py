@@ -11,7 +11,9 @@ saves, in order.
 
 from __future__ import annotations
 
+import bisect
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any
@@ -20,11 +22,51 @@ import numpy as np
 
 from hybrid.discrete.ledger import EnergyLedger
 
-__all__ = ["HISTORY_KEYS", "RESULT_NUMBERS", "RunOptions", "RunResult",
-           "require_same_settings", "settings_text"]
+__all__ = ["HISTORY_KEYS", "REST_DRIFT", "REST_WINDOW", "RESULT_NUMBERS", "RunOptions",
+           "RunResult", "drift_ratio", "require_same_settings", "settings_text"]
 
 #: keys of ``RunResult.history`` (the ledger's terms between time/step and residual)
 HISTORY_KEYS = ("time", "step", *(f.name for f in fields(EnergyLedger)), "residual")
+
+#: the last fraction of a run over which :func:`drift_ratio` measures the rate of work [-]
+REST_WINDOW = 0.1
+#: default largest :func:`drift_ratio` at rest: at its last rate, running as long again would
+#: add at most 1 % to the work the loads and supports did in the run [-]
+REST_DRIFT = 0.01
+
+
+def drift_ratio(time: Sequence[float] | np.ndarray, loads: Sequence[float] | np.ndarray,
+                supports: Sequence[float] | np.ndarray, floor: float) -> float:
+    """How far a run is from having stopped moving, by the work of its loads [-].
+
+    The work of the loads and supports over the last ``REST_WINDOW`` of the run's checks,
+    extrapolated at that rate to the run's whole duration, over the work done in the run
+    (at least ``floor``). A mass creeping under mass damping has little kinetic energy but
+    gravity still works on it, so this ratio stays large where the kinetic-energy ratio
+    already reads rest; an elastic body vibrating about its rest position only exchanges
+    energy and gives a ratio near zero. Time and work are a run's history at its checks
+    (the first check is the start of the measure).
+
+    Args:
+        time: the checks' times, increasing [s].
+        loads: W_loads at the checks [kJ/m].
+        supports: W_supports at the checks [kJ/m].
+        floor: smallest denominator [kJ/m] (the run's peak kinetic energy: a run in which
+            nothing is driven).
+    """
+    n = len(time)
+    if n < 2:
+        return math.inf
+    t_end, t_start = time[-1], time[0]
+    duration = t_end - t_start
+    if not duration > 0.0:
+        return math.inf
+    i = min(bisect.bisect_right(time, t_end - REST_WINDOW * duration), n - 2)
+    window = t_end - time[i]
+    end = loads[-1] + supports[-1]
+    done = abs(end - loads[0] - supports[0])
+    return (abs(end - loads[i] - supports[i]) * (duration / window)
+            / max(done, floor, 1e-300))
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -142,6 +184,17 @@ class RunResult:
             raise ValueError("rest_ratio: the run has no energy history")
         kin, strain = float(h["kinetic"][-1]), float(h["strain"][-1])
         return kin / max(self.peak_kinetic, kin, strain, 1e-300)
+
+    @property
+    def drift_ratio(self) -> float:
+        """:func:`drift_ratio` of the run's history: the other measure of ``until_rest``.
+
+        A run stopped at rest has it at most its ``rest_drift``.
+        """
+        h = self.history
+        if len(h.get("time", ())) < 2:
+            raise ValueError("drift_ratio: the run has fewer than two checks")
+        return drift_ratio(h["time"], h["work_loads"], h["work_supports"], self.peak_kinetic)
 
     @property
     def ending(self) -> str:

@@ -50,9 +50,11 @@ from hybrid.discrete.monitor import (
 )
 from hybrid.discrete.options import (
     HISTORY_KEYS,
+    REST_DRIFT,
     RESULT_NUMBERS,
     RunOptions,
     RunResult,
+    drift_ratio,
     require_same_settings,
     settings_text,
 )
@@ -370,7 +372,7 @@ class ExplicitSolver:
     # -- runs --------------------------------------------------------------------------------
     def run(self, *, until_time: float | None = None, max_steps: int | None = None,
             until_rest: float | None = None, check_every: int = 100,
-            rest_min_steps: int = 200,
+            rest_min_steps: int = 200, rest_drift: float = REST_DRIFT,
             on_check: Callable[[DiscreteState], bool | None] | None = None,
             phase: str | None = None) -> RunResult:
         """Advance the state until a time, a step count or rest, whichever comes first.
@@ -379,10 +381,14 @@ class ExplicitSolver:
             until_time: absolute state time to reach [s].
             max_steps: steps of this run at most.
             until_rest: stop when E_kin <= until_rest * max(peak E_kin of this run, E_strain)
-                (checked every ``check_every`` steps after ``rest_min_steps``) [-].
+                and the loads have stopped working, ``drift_ratio`` <= ``rest_drift``
+                (checked every ``check_every`` steps after ``rest_min_steps``) [-]. The
+                second condition keeps a mass creeping under mass damping (slow, so little
+                kinetic energy) from being taken as at rest.
             check_every: steps between checks: energy ledger, instability monitor, history,
                 rest, observers' ``checked`` and ``on_check``.
             rest_min_steps: steps of this run before rest may stop it.
+            rest_drift: largest :func:`~hybrid.discrete.options.drift_ratio` at rest [-].
             on_check: called with the state at every check; it may change loads
                 (``external_force``, load histories) and returns True to stop the run (stop
                 reason "callback"). Loads are read as non-zero when the run starts.
@@ -408,6 +414,9 @@ class ExplicitSolver:
             raise ValueError(f"max_steps = {max_steps!r}: must be an integer >= 0")
         if until_rest is not None and not until_rest > 0.0:
             raise ValueError(f"until_rest = {until_rest!r}: must be a positive energy ratio")
+        if not (math.isfinite(rest_drift) and rest_drift > 0.0):
+            raise ValueError(f"rest_drift = {rest_drift!r}: must be a positive ratio of works "
+                             f"(default {REST_DRIFT})")
         if until_time is not None and not math.isfinite(until_time):
             raise ValueError(f"until_time = {until_time!r}: must be a finite time [s]")
         for name, val in (("check_every", check_every), ("rest_min_steps", rest_min_steps)):
@@ -417,7 +426,8 @@ class ExplicitSolver:
             raise RuntimeError("this solver is closed: make a new ExplicitSolver")
         check_every = max(int(check_every), 1)
         phase = phase if phase is not None else f"run {len(self._done) + 1}"
-        call = repr((until_time, max_steps, until_rest, check_every, rest_min_steps, phase))
+        call = repr((until_time, max_steps, until_rest, check_every, rest_min_steps, phase)
+                    + ((rest_drift,) if rest_drift != REST_DRIFT else ()))
         if self._replay:  # a run that had ended before the checkpoint
             saved_call, result = self._replay.pop(0)
             self._check_call(saved_call, call)
@@ -480,7 +490,9 @@ class ExplicitSolver:
                     for obs in observers:
                         obs.checked(self, led)
                     if (until_rest is not None and k >= rest_min_steps
-                            and led.kinetic <= until_rest * max(r.peak_ke, led.strain)):
+                            and led.kinetic <= until_rest * max(r.peak_ke, led.strain)
+                            and drift_ratio(hist["time"], hist["work_loads"],
+                                            hist["work_supports"], r.peak_ke) <= rest_drift):
                         stop = "rest"
                         break
                     if on_check is not None:
