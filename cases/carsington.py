@@ -119,7 +119,7 @@ class Parameters(references.CarsingtonTable62, references.CarsingtonTable63):
     fos_step: float = param(0.1, gt=0)  # first relative increase of F [-]
     fos_tolerance: float = param(0.01, gt=0)  # F bracketed to this relative width [-]
     # discrete phase (post-failure)
-    discrete_time: float = param(60.0, ge=0)  # at most, earlier at rest [s] (0: continuum only)
+    discrete_time: float = param(120.0, ge=0)  # at most, earlier at rest [s] (0: continuum only)
     region_layers: int = param(2, ge=0)  # growth of the splittable region around the yielded cells
     mass_damping: float = param(0.0, ge=0)  # mass damping alpha [1/s] (thesis: 3; see header)
     contact_damping: float = param(0.2, ge=0, le=1)  # normal contact damping ratio [-]
