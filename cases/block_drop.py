@@ -104,9 +104,7 @@ def main(out: str | Path = "results/block_drop", **overrides) -> CaseSummary:
     checks["energy_excess_over_sources"] = Check(
         energy_excess(h), 0.0, 0.01, "-",
             "E_kin + E_strain + E_contact <= E(0) + work of gravity")
-    checks["rest_kinetic_ratio"] = Check(
-        res.rest_ratio, 0.0, p.rest, "-",
-        "at rest: E_kin / max(peak E_kin, E_strain)")
+    checks.update(res.rest_checks(p.rest))
     summary = CaseSummary("block_drop (D5)", out, p, results={
         "dt": res.dt, "steps": res.steps, "time": res.time,
         "stop_reason": res.stop_reason, "wall_time": res.wall_time,

@@ -99,9 +99,7 @@ def main(out: str | Path = "results/fe_de_interaction", **overrides) -> CaseSumm
         "energy_excess_over_sources": Check(
             energy_excess(h), 0.0, 0.01, "-",
             "E_kin + E_strain + E_contact <= E(0) + work of the load"),
-        "rest_kinetic_ratio": Check(
-            res.rest_ratio, 0.0, p.rest,
-            "-", "at rest: E_kin / max(peak E_kin, E_strain)"),
+        **res.rest_checks(p.rest),
     }
     summary = CaseSummary("fe_de_interaction (D6)", out, p, results={
         "dt": res.dt, "steps": res.steps, "time": res.time,

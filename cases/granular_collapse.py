@@ -174,9 +174,7 @@ def main(out: str | Path = "results/granular_collapse", **overrides) -> CaseSumm
     refs = references(p.aspect)
     checks = {
         **conservation_checks(h, disc, n0, mass0),
-        "rest_kinetic_ratio": Check(
-            res.rest_ratio, 0.0, p.rest,
-            "-", "at rest: E_kin / max(peak E_kin, E_strain)"),
+        **res.rest_checks(p.rest),
     }
     # a deposit still moving is no final profile: compared only at rest
     at_rest = res.stop_reason == "rest"

@@ -192,9 +192,7 @@ def main(out: str | Path = "results/toppling", **overrides) -> CaseSummary:
         "energy_excess_over_sources": Check(
             energy_excess(h), 0.0, 0.01, "-",
             "E_kin + E_strain + E_contact <= E(0) + work of gravity"),
-        "rest_kinetic_ratio": Check(
-            res.rest_ratio, 0.0, p.rest,
-            "-", "at rest: E_kin / max(peak E_kin, E_strain)"),
+        **res.rest_checks(p.rest),
         "failed_interfaces": Check(float(n_failed), None, None, "-", "report"),
         "face_top_height": Check(top1, None, None, "m", f"report (initially {top0:.3g} m)"),
     }

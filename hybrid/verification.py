@@ -270,7 +270,7 @@ def _collapse_case(aspect: float, reduced_nx: int, title: str, mesh: bool = Fals
         bar="15 % on run-out and final height against the rods"
             + (f"; run-out within {100 * RUNOUT_MESH_BAR:g} % when the grains are twice as "
                "large" if mesh else ""),
-        checks=("energy_excess_over_sources", "rest_kinetic_ratio"),
+        checks=("energy_excess_over_sources", "rest_kinetic_ratio", "rest_drift_ratio"),
         extra=_collapse_mesh_extra if mesh else _collapse_extra, keep=("final.png",))
 
 

@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from hybrid.discrete.ledger import EnergyLedger
+from hybrid.io import Check
 
 __all__ = ["HISTORY_KEYS", "REST_DRIFT", "REST_WINDOW", "RESULT_NUMBERS", "RunOptions",
            "RunResult", "drift_ratio", "require_same_settings", "settings_text"]
@@ -43,9 +44,12 @@ def drift_ratio(time: Sequence[float] | np.ndarray, loads: Sequence[float] | np.
     extrapolated at that rate to the run's whole duration, over the work done in the run
     (at least ``floor``). A mass creeping under mass damping has little kinetic energy but
     gravity still works on it, so this ratio stays large where the kinetic-energy ratio
-    already reads rest; an elastic body vibrating about its rest position only exchanges
-    energy and gives a ratio near zero. Time and work are a run's history at its checks
-    (the first check is the start of the measure).
+    already reads rest. A vibration about the rest position counts too, by the work its
+    amplitude exchanges with gravity: up to about 20 times that amplitude over the run's
+    work (1 % for an amplitude of 5e-4 of it), so a lightly damped run also waits for its
+    vibration to die down. A steady driver (a support pushed at a constant speed, a load
+    that keeps rising) keeps the ratio near 1: such a run never reads rest. Time and work are
+    a run's history at its checks (the first check is the start of the measure).
 
     Args:
         time: the checks' times, increasing [s].
@@ -195,6 +199,20 @@ class RunResult:
         if len(h.get("time", ())) < 2:
             raise ValueError("drift_ratio: the run has fewer than two checks")
         return drift_ratio(h["time"], h["work_loads"], h["work_supports"], self.peak_kinetic)
+
+    def rest_checks(self, rest: float, rest_drift: float = REST_DRIFT) -> dict[str, Check]:
+        """The two measures of rest as checks, on the bars the run stopped on.
+
+        ``rest_kinetic_ratio`` (:attr:`rest_ratio` at most ``rest``) and ``rest_drift_ratio``
+        (:attr:`drift_ratio` at most ``rest_drift``): a run stopped at rest passes both, a
+        run cut by its time or step limit while creeping fails the second.
+        """
+        return {"rest_kinetic_ratio": Check(self.rest_ratio, 0.0, rest, "-",
+                                            "at rest: E_kin / max(peak E_kin, E_strain)"),
+                "rest_drift_ratio": Check(self.drift_ratio, 0.0, rest_drift, "-",
+                                          "at rest: work of the loads over the last tenth "
+                                          "of the run, at that rate over the whole run, / "
+                                          "their work in the run")}
 
     @property
     def ending(self) -> str:

@@ -20,7 +20,6 @@ import numpy as np
 
 from hybrid.discrete.energy import conservation_checks, energy_peak_ratio
 from hybrid.discrete.figures import Snapshots, plot_configuration
-from hybrid.discrete.options import REST_DRIFT
 from hybrid.discrete.outputs import frame_interval, standard_outputs
 from hybrid.discrete.solver import ExplicitSolver, RunOptions, RunResult
 from hybrid.discrete.state import DiscreteState
@@ -137,12 +136,7 @@ class RestRun:
         """
         return {**conservation_checks(self.result.history, self.state, self.n_elements,
                                       self.mass),
-                "rest_kinetic_ratio": Check(self.result.rest_ratio, 0.0, self.rest, "-",
-                                            "at rest: E_kin / max(peak E_kin, E_strain)"),
-                "rest_drift_ratio": Check(self.result.drift_ratio, 0.0, REST_DRIFT, "-",
-                                          "at rest: work of the loads over the last tenth "
-                                          "of the run, at that rate over the whole run, / "
-                                          "their work in the run")}
+                **self.result.rest_checks(self.rest)}
 
     def final_figure(self, path: str | Path,
                      lines: dict[str, np.ndarray] | None = None) -> Path:

@@ -384,11 +384,13 @@ class ExplicitSolver:
                 and the loads have stopped working, ``drift_ratio`` <= ``rest_drift``
                 (checked every ``check_every`` steps after ``rest_min_steps``) [-]. The
                 second condition keeps a mass creeping under mass damping (slow, so little
-                kinetic energy) from being taken as at rest.
+                kinetic energy) from being taken as at rest; a run with a steady driver (a
+                support pushed at a constant speed, a rising load) never reads rest.
             check_every: steps between checks: energy ledger, instability monitor, history,
                 rest, observers' ``checked`` and ``on_check``.
             rest_min_steps: steps of this run before rest may stop it.
-            rest_drift: largest :func:`~hybrid.discrete.options.drift_ratio` at rest [-].
+            rest_drift: largest :func:`~hybrid.discrete.options.drift_ratio` at rest [-] (inf:
+                the kinetic energy alone).
             on_check: called with the state at every check; it may change loads
                 (``external_force``, load histories) and returns True to stop the run (stop
                 reason "callback"). Loads are read as non-zero when the run starts.
@@ -414,9 +416,9 @@ class ExplicitSolver:
             raise ValueError(f"max_steps = {max_steps!r}: must be an integer >= 0")
         if until_rest is not None and not until_rest > 0.0:
             raise ValueError(f"until_rest = {until_rest!r}: must be a positive energy ratio")
-        if not (math.isfinite(rest_drift) and rest_drift > 0.0):
+        if not rest_drift > 0.0:
             raise ValueError(f"rest_drift = {rest_drift!r}: must be a positive ratio of works "
-                             f"(default {REST_DRIFT})")
+                             f"(default {REST_DRIFT}; inf: the kinetic energy alone)")
         if until_time is not None and not math.isfinite(until_time):
             raise ValueError(f"until_time = {until_time!r}: must be a finite time [s]")
         for name, val in (("check_every", check_every), ("rest_min_steps", rest_min_steps)):
@@ -491,8 +493,10 @@ class ExplicitSolver:
                         obs.checked(self, led)
                     if (until_rest is not None and k >= rest_min_steps
                             and led.kinetic <= until_rest * max(r.peak_ke, led.strain)
-                            and drift_ratio(hist["time"], hist["work_loads"],
-                                            hist["work_supports"], r.peak_ke) <= rest_drift):
+                            and (rest_drift == math.inf
+                                 or drift_ratio(hist["time"], hist["work_loads"],
+                                                hist["work_supports"], r.peak_ke)
+                                 <= rest_drift)):
                         stop = "rest"
                         break
                     if on_check is not None:
