@@ -28,8 +28,16 @@ Set-up
        by the strength criteria and where the soil beside them has softened to residual; an
        element beside a failed bond yields up to its residual and then slides on the bond
        (``hybrid.discrete.ties.band_plastic_cap``). The rigid platen is the real footing.
+       No mass damping (``mass_damping`` = 0, as Carsington): it would drag every element as
+       through a viscous fluid, and it does not decide the result: the energy of the punch
+       goes into plastic work, friction and contact damping, and rest is judged by the
+       kinetic energy and by the loads having stopped working, neither of which depends on
+       alpha. With alpha = 0.5 ... 2 /s the settlement and heave at rest are within 10 % of
+       the undamped run's, a little smaller as alpha grows (damping brakes the footing while
+       the load comes off).
 Verification (H2 has no closed form)
-    Bars: rest after unloading (E_kin <= ``rest`` x its peak), bounded energy (E_kin +
+    Bars: rest after unloading (E_kin <= ``rest`` x its peak, and the loads no longer
+    working: ``hybrid.discrete.options.drift_ratio`` <= 1 %), bounded energy (E_kin +
     E_strain + E_contact at most 1 % of the supply above E(0) + work of loads and gravity),
     element count and mass unchanged. Reported: the collapse load against the classical
     estimates, the settlement at unloading, heave beside the footing, failed interfaces.
@@ -95,7 +103,8 @@ class Parameters(CaseParameters):
     max_time: float = param(3.0, gt=0)  # give up the loaded phase after this time [s]
     region_layers: int = param(2, ge=0)  # growth of the splittable region around the yielded cells
     freeze_layers: int = param(6, ge=0)  # cells beyond this many layers of the region are held
-    mass_damping: float = param(2.0, ge=0)  # mass damping alpha [1/s] in the discrete phase
+    mass_damping: float = param(0.0, ge=0)  # mass damping alpha [1/s] in the discrete phase
+    #                                         (0: none; see the header)
     rest: float = param(1e-4, gt=0)  # kinetic / strain energy ratio taken as rest
     output_every: int = param(400, ge=0)  # discrete steps between outputs (0: none)
     checkpoint_every: int = param(0, ge=0)  # discrete steps between checkpoints (0: none;

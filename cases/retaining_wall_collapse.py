@@ -35,8 +35,10 @@ Verification
     of the wall face has moved ``wedge_at`` = 0.1 H is compared with 45 + phi/2 = 60 deg (bar
     5 deg). The same fit at 0.01 H ... 0.2 H of movement and at rest is reported: the scarp
     retreats and flattens as the debris runs out. The run must
-    reach rest with bounded energy (E_kin + E_strain + E_contact never above the initial
-    energy plus the work of gravity) and keep its elements and mass. Reported: the run-out
+    reach rest (E_kin <= ``rest`` x its peak, and gravity no longer working:
+    ``hybrid.discrete.options.drift_ratio`` <= 1 %) with bounded energy (E_kin + E_strain +
+    E_contact never above the initial energy plus the work of gravity) and keep its elements
+    and mass. Reported: the run-out
     (toe position), the final slope angle, the active / passive thrusts against Rankine.
 References
     Rankine (1857); G. S. Bala (2008), thesis, section 5.4.2.
