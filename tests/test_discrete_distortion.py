@@ -141,3 +141,32 @@ def test_fragments_continue_bit_for_bit_across_runs_and_restarts(tmp_path):
     for name in fields:
         np.testing.assert_array_equal(getattr(resumed, name), getattr(whole, name),
                                       err_msg=name)
+
+
+def test_a_q4_folding_at_a_corner_becomes_a_fragment_though_its_stable_step_holds():
+    """A 2 m x 1 m Q4 deformed into a dart, its lower left corner nearly flat: its area and
+    longest edge keep its stable step (A / longest edge, sqrt(1 / longest edge)) at its
+    initial value, so the stable-step rule alone leaves it; the corner's Jacobian (the cross
+    product of the edges at that corner, 2 x 1 at creation, 2 x 0.1 now) marks it."""
+    st = rectangle(2.0, 1.0, 1, 1, "Q4", material=Material(name="b", E=1e4, nu=0.0,
+                                                           density=2.0))
+    assert np.allclose(ties.corner_ratio(st), 1.0)
+    moved = {(0.0, 0.0): (0.0, 0.0), (2.0, 0.0): (2.0, 0.0), (2.0, 1.0): (0.6, 1.4),
+             (0.0, 1.0): (-0.8, 0.1)}
+    for i, ref in enumerate(st.x_ref):
+        st.x[i] = moved[(float(ref[0]), float(ref[1]))]
+    # corner (0, 0): edges in from (-0.8, 0.1) and out to (2, 0): 0.8 x 0 + 0.1 x 2 = 0.2
+    np.testing.assert_allclose(ties.corner_ratio(st), 0.2 / 2.0, rtol=1e-12)
+    area = 0.5 * (2.0 * 1.4 + (0.6 * 0.1 + 0.8 * 1.4))  # shoelace
+    lmax = max(2.0, math.hypot(1.4, 1.4), math.hypot(1.4, 1.3), math.hypot(0.8, 0.1))
+    expect = min((area / lmax) / (2.0 / 2.0), math.sqrt(2.0 / lmax))
+    np.testing.assert_allclose(ties.stable_step_ratio(st), expect, rtol=1e-12)
+    assert expect > ties.DISTORTION_LIMIT
+    assert ties.mark_fragments(st, corner_limit=0.0) == 0  # the stable step alone: left
+    assert ties.mark_fragments(st) == 1
+    assert np.isfinite(st.fragment_cap).all()
+    # a parallelogram sheared at constant area keeps every corner's Jacobian
+    st = rectangle(2.0, 1.0, 1, 1, "Q4", material=Material(name="b", E=1e4, nu=0.0,
+                                                           density=2.0))
+    st.x[:, 0] += 0.7 * st.x[:, 1]
+    np.testing.assert_allclose(ties.corner_ratio(st), 1.0, rtol=1e-12)

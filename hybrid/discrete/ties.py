@@ -24,12 +24,18 @@ would otherwise distort its elements until they invert.
 An element also parts from its neighbours when it has distorted as far as an element can
 follow the flow: when its stable time step (the smaller of the ratios of its least altitude
 and of sqrt(1 / longest edge) to their values at creation: ``stable_step_ratio``) has fallen
-below ``DISTORTION_LIMIT`` at a splitting check, it becomes a fragment for good
+below ``DISTORTION_LIMIT``, or a Q4 has folded towards a corner (the least ratio of a
+corner's Jacobian to its value at creation, ``corner_ratio``, below ``CORNER_LIMIT``), at a
+splitting check, it becomes a fragment for good
 (``DiscreteState.fragment_cap``, ``mark_fragments``): its splittable bonds fail and its
 points yield no further than its most strained one had then (``band_plastic_cap``), since a
-fragment flowing further inside would pancake and stop the explicit run. A failed interface
-unties: the tie groups of the edge's two vertices are rebuilt as the connected components of
-the graph "node - intact interface - node" among the group's members.
+fragment flowing further inside would pancake and stop the explicit run. The
+corner check is needed besides the stable step: an isochoric flow can fold a Q4 into a dart
+(one corner's two edges turning into line, then past it) while its area and longest edge, so
+its stable step, barely change; the folded element then inverts between two checks and ends
+the run in non-finite numbers. A failed interface unties: the tie groups of the edge's two
+vertices are rebuilt as the connected components of the graph "node - intact interface -
+node" among the group's members.
 """
 
 from __future__ import annotations
@@ -48,7 +54,8 @@ import numba  # isort: skip
 
 __all__ = ["check_interfaces", "split_interfaces", "limit_splitting", "FAIL_TENSION",
            "FAIL_SHEAR", "FAIL_PLASTIC", "FAIL_SOFTENED", "FAIL_DISTORTED", "DISTORTION_LIMIT",
-           "stable_step_ratio", "mark_fragments", "band_plastic_cap"]
+           "CORNER_LIMIT", "stable_step_ratio", "corner_ratio", "mark_fragments",
+           "band_plastic_cap"]
 
 FAIL_TENSION = 1
 FAIL_SHEAR = 2
@@ -65,6 +72,14 @@ FAIL_DISTORTED = 5
 #: safety above the limit lets the smallest elements reach the run's step first: the run then
 #: stops as distorted (``monitor.check_distortion``).
 DISTORTION_LIMIT = 0.75
+#: A Q4 also parts from its neighbours once the Jacobian at one of its corners (twice the
+#: area of the triangle of that corner's two edges) has fallen below this fraction of its
+#: value at creation [-]: the element is folding towards a dart at that corner, which its
+#: stable step does not show (see module). A simple shear keeps every corner's Jacobian and a
+#: uniform squash scales all four alike (meeting ``DISTORTION_LIMIT`` first), so this limit is
+#: met by a fold, not by the flow a parallelogram follows. For a T3 every corner's Jacobian is
+#: twice its area.
+CORNER_LIMIT = 0.25
 
 
 @numba.njit(cache=True, inline="always")
@@ -89,6 +104,31 @@ def _stable_step_ratio_kernel(x, x_ref, element_nodes, fixed, out):
         h, lmax = step_lengths(x, element_nodes, e)
         h0, lmax0 = step_lengths(x_ref, element_nodes, e)
         out[e] = min(h / h0, math.sqrt(lmax0 / lmax)) if h > 0.0 else 0.0
+
+
+@numba.njit(cache=True, parallel=True)
+def _corner_ratio_kernel(x, x_ref, element_nodes, fixed, out):
+    """out[e] = min over corners a of J_a(x) / J_a(x_ref): the least corner Jacobian ratio.
+
+    J_a is the cross product of the edges into and out of corner a (counter-clockwise); 1 for
+    an element whose nodes are all held.
+    """
+    nen = element_nodes.shape[1]
+    for e in numba.prange(element_nodes.shape[0]):
+        if element_held(element_nodes, fixed, e):
+            out[e] = 1.0
+            continue
+        worst = math.inf
+        for a in range(nen):
+            i = element_nodes[e, (a + nen - 1) % nen]
+            j = element_nodes[e, a]
+            k = element_nodes[e, (a + 1) % nen]
+            jac = ((x[j, 0] - x[i, 0]) * (x[k, 1] - x[j, 1])
+                   - (x[j, 1] - x[i, 1]) * (x[k, 0] - x[j, 0]))
+            jac0 = ((x_ref[j, 0] - x_ref[i, 0]) * (x_ref[k, 1] - x_ref[j, 1])
+                    - (x_ref[j, 1] - x_ref[i, 1]) * (x_ref[k, 0] - x_ref[j, 0]))
+            worst = min(worst, jac / jac0)
+        out[e] = worst
 
 
 @numba.njit(cache=True, parallel=True)
@@ -184,13 +224,31 @@ def stable_step_ratio(state: DiscreteState) -> np.ndarray:
     return out
 
 
-def mark_fragments(state: DiscreteState, limit: float = DISTORTION_LIMIT) -> int:
-    """Make fragments of the elements distorted beyond ``limit`` (stable step ratio below it).
+def corner_ratio(state: DiscreteState) -> np.ndarray:
+    """Each element's least corner Jacobian now over its value at creation (n_elements,) [-].
 
-    A new fragment's ``state.fragment_cap`` is the largest plastic strain of its points now;
-    a fragment stays one with that cap. Returns how many became fragments.
+    The Jacobian at a corner is the cross product of the edges into and out of it
+    (counter-clockwise: positive while the element is convex there). 1 for an undeformed
+    element, a parallelogram sheared at constant area or one whose nodes are all held; 0 at
+    a corner folded flat, negative past it.
     """
-    new = (stable_step_ratio(state) < limit) & np.isinf(state.fragment_cap)
+    out = np.ones(state.n_elements)
+    if state.n_elements:
+        _corner_ratio_kernel(state.x, state.x_ref, state.element_nodes, state.fixed, out)
+    return out
+
+
+def mark_fragments(state: DiscreteState, limit: float = DISTORTION_LIMIT,
+                   corner_limit: float = CORNER_LIMIT) -> int:
+    """Make fragments of the elements distorted beyond the limits.
+
+    Distorted: the stable step ratio below ``limit``, or a Q4 folding at a corner
+    (``corner_ratio`` below ``corner_limit``). A new fragment's ``state.fragment_cap`` is the
+    largest plastic strain of its points now; a fragment stays one with that cap. Returns how
+    many became fragments.
+    """
+    distorted = (stable_step_ratio(state) < limit) | (corner_ratio(state) < corner_limit)
+    new = distorted & np.isinf(state.fragment_cap)
     if new.any():
         state.fragment_cap[new] = state.plastic_strain[new].max(axis=1)
     return int(new.sum())
