@@ -60,6 +60,7 @@ def main(out="x", **overrides):
     return CaseSummary("granular_collapse (R1)", out, p, {
         "energy_excess_over_sources": Check(0.0, 0.0, 0.01, "-", "energy"),
         "rest_kinetic_ratio": Check(5e-5, 0.0, 1e-4, "-", "at rest"),
+        "rest_drift_ratio": Check(5e-3, 0.0, 1e-2, "-", "at rest"),
         "mass_conserved": Check(1.0, 1.0, 1e-12, "t/m")}, {"deposit": {
             "runout_m": runout_m, "normalised_runout": RUNOUT[p.aspect],
             "height_over_H0": HEIGHT[p.aspect], "references": REFS[p.aspect],
@@ -269,7 +270,8 @@ def test_r_series_rows_and_section(tmp_path, monkeypatch, case):
     results = verification.run_cases(["R1"], tmp_path / "runs")
     res = {r["id"]: r for r in results}
     assert list(res) == ["R1-a0.5", "R1-a1", "R1-a2"]
-    names = ["energy_excess_over_sources", "rest_kinetic_ratio", "runout_vs_rods2015",
+    names = ["energy_excess_over_sources", "rest_kinetic_ratio", "rest_drift_ratio",
+             "runout_vs_rods2015",
              "final_height_vs_rods2015",
              "runout_vs_lube2005", "final_height_vs_lube2005"]
     assert [r["name"] for r in res["R1-a0.5"]["rows"]] == [*names,
