@@ -493,10 +493,8 @@ class ExplicitSolver:
                         obs.checked(self, led)
                     if (until_rest is not None and k >= rest_min_steps
                             and led.kinetic <= until_rest * max(r.peak_ke, led.strain)
-                            and (rest_drift == math.inf
-                                 or drift_ratio(hist["time"], hist["work_loads"],
-                                                hist["work_supports"], r.peak_ke)
-                                 <= rest_drift)):
+                            and drift_ratio(hist["time"], hist["work_loads"],
+                                            hist["work_supports"], r.peak_ke) <= rest_drift):
                         stop = "rest"
                         break
                     if on_check is not None:
