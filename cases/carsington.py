@@ -134,9 +134,12 @@ def materials(p: Parameters) -> dict[str, Material]:
 
     Discrete phase: bonds as strong as the material, a tension cut-off of c for the phi = 0
     clays (assumed); separated elements slide at Table 6.2's residual angles (Zone I and the
-    berm at Zone II's: assumed). With ``softening`` the residual strengths of the Problem."""
+    berm at Zone II's: assumed), as the thesis's cracks do. With ``softening`` the residual
+    strengths of the Problem, which a crack then carries (``Contact``): the fill's c = 0 and
+    phi_r, the clays' residual c_u on any normal stress (undrained, phi = 0)."""
     def contact(phi: float) -> Contact:
-        return Contact(phi=phi, damping=p.contact_damping)
+        return Contact(damping=p.contact_damping) if p.softening else Contact(
+            phi=phi, damping=p.contact_damping)
 
     def residual(c: float, phi: float) -> dict[str, Any]:
         return ({"residual": Strength(cohesion=c, phi=phi),
@@ -153,7 +156,8 @@ def materials(p: Parameters) -> dict[str, Material]:
                      p.core_peak_phi)}
     return {
         "foundation": Material(name="mudstone", E=p.foundation_E, nu=p.foundation_nu,
-                               unit_weight=p.foundation_gamma, contact=contact(p.fill_phi)),
+                               unit_weight=p.foundation_gamma,
+                               contact=Contact(phi=p.fill_phi, damping=p.contact_damping)),
         **{key: Material(name=name, E=E, nu=nu, unit_weight=gamma, cohesion=cu,
                          tensile_strength=cut, bond=Bond(tensile_strength=cu),
                          contact=contact(phi_r),

@@ -25,9 +25,9 @@ Set-up
        (``DiscreteState.tie_rigidly``) carrying the same total load; the pressure raised to
        ``pressure`` (1 800 kPa) over ``ramp_time``, held until the footing has settled
        ``target_settlement`` (0.5 m), removed over ``ramp_time``, then run to rest. Bonds fail
-       by the strength criteria and where the soil beside them has softened to residual; an
-       element beside a failed bond yields up to its residual and then slides on the bond
-       (``hybrid.discrete.ties.band_plastic_cap``). The rigid platen is the real footing.
+       by the strength criteria and where the soil beside them has softened to residual; a
+       failed bond carries the residual strength (c_r + sigma_n tan phi_r, ``Contact``).
+       The rigid platen is the real footing.
        No mass damping (``mass_damping`` = 0, as Carsington): it would drag every element as
        through a viscous fluid, and it does not decide the result: the energy of the punch
        goes into plastic work, friction and contact damping, and rest is judged by the

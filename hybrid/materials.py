@@ -135,6 +135,14 @@ class Contact:
         shear_stiffness: k_t [kPa/m] of the tangential spring; None: equal to k_n.
         phi: contact friction angle [deg]; None: the material's residual phi when it
             softens, else its phi.
+        cohesion: shear strength of the contact at zero normal stress [kPa], acting over the
+            contact length while the two sides press on each other (a crack's strength
+            ``tau <= c + sigma_n tan phi``); None: the material's residual cohesion when it
+            softens, else 0. A crack in a softening material so carries the residual
+            strength of the band it replaces: in an undrained (phi = 0) clay, its residual
+            c_u on any normal stress; in a drained soil (c_r = 0 usually), friction alone.
+            Between two materials the weaker of their two strengths at the contact's normal
+            force governs (the crack runs through the weaker side).
         damping: viscous damping ratio zeta [-] of the normal spring (0 <= zeta <= 1; 0: none,
             separated blocks rattle until mass damping stops them).
     """
@@ -142,13 +150,16 @@ class Contact:
     normal_stiffness: float | None = None
     shear_stiffness: float | None = None
     phi: float | None = None
+    cohesion: float | None = None
     damping: float = 0.0
 
     def __post_init__(self) -> None:
         owner = "Contact"
         _check_numbers(owner, {"normal_stiffness": self.normal_stiffness,
                                "shear_stiffness": self.shear_stiffness, "phi": self.phi,
-                               "damping": self.damping})
+                               "cohesion": self.cohesion, "damping": self.damping})
+        if self.cohesion is not None and self.cohesion < 0:
+            raise _invalid(owner, "cohesion", self.cohesion, ">= 0 kPa")
         for key in ("normal_stiffness", "shear_stiffness"):
             value = getattr(self, key)
             if value is not None and value <= 0:
@@ -387,7 +398,8 @@ class Material:
             bond = Bond(cohesion=_divided(self.bond.cohesion, factor),
                         phi=_reduced_optional(self.bond.phi, factor),
                         tensile_strength=_divided(self.bond.tensile_strength, factor))
-            contact = replace(self.contact, phi=_reduced_optional(self.contact.phi, factor))
+            contact = replace(self.contact, phi=_reduced_optional(self.contact.phi, factor),
+                              cohesion=_divided(self.contact.cohesion, factor))
             return replace(self, cohesion=self.cohesion / factor, phi=phi,
                            psi=min(_reduced_angle(self.psi, factor), phi),
                            plastic=self.is_plastic,

@@ -46,6 +46,8 @@ def _stacked():
      "prescribed_velocity holds non-finite values at node 0"),
     (lambda st: st.contact_table.__setitem__((0, 3), 1.5),
      r"contact damping ratio 1.5 of material 0 is outside \[0, 1\]"),
+    (lambda st: st.contact_table.__setitem__((0, 4), -2.0),
+     r"contact cohesion -2.0 of material 0 is not a finite number >= 0 kPa"),
 ])
 def test_discrete_run_refuses_bad_inputs(fault, message):
     st = _stacked()

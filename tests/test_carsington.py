@@ -241,7 +241,7 @@ def test_carsington_softening_coarse(case, tmp_path):
     """Beyond the thesis, coarse mesh: with the strengths falling to residual the dam carries
     no more fill than with the thesis's perfectly plastic strengths (a residual is never above
     its peak), and the discrete phase runs to rest with no expert option (the softened bonds
-    fail, the elements beside them stop yielding at residual): slip through the yellow clay
+    fail and carry the residual strength as contacts): slip through the yellow clay
     and the boot, the upstream shoulder moving upstream, energy bounded, elements and mass
     kept."""
     coarse = dict(size=15.0, layer_size=3.0, min_increment=0.05, safety=False, frames=2,

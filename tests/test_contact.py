@@ -50,13 +50,13 @@ def random_pile(rng, n_el, span):
     return x, en, v, mass, np.zeros(n_el, dtype=np.int32), table
 
 
-def two_body(pa, pb, kn=1e5, kt=2e4, mu=0.5, zeta=0.0, mass_a=1.0, mass_b=1.0):
+def two_body(pa, pb, kn=1e5, kt=2e4, mu=0.5, zeta=0.0, mass_a=1.0, mass_b=1.0, c=0.0):
     """Arrays for a two-element contact problem (A = element 0, B = element 1)."""
     nen = len(pa)
     x = np.vstack([pa, pb]).astype(float)
     en = np.arange(2 * nen, dtype=np.int64).reshape(2, nen)
     mass = np.r_[np.full(nen, mass_a / nen), np.full(nen, mass_b / nen)]
-    table = np.array([[kn, kt, mu, zeta]])
+    table = np.array([[kn, kt, mu, zeta, c]])
     return x, en, mass, np.zeros(2, dtype=np.int32), table, np.array([[0, 1]], dtype=np.int64)
 
 
@@ -239,20 +239,23 @@ def test_normal_damping_and_no_adhesion():
     assert d_d == pytest.approx(kn * 0.01 * v[4, 1] * dt, rel=1e-12)  # elastic force x motion
 
 
-def test_friction_spring_cap_and_slip_work():
+@pytest.mark.parametrize("mu, c", [(0.5, 0.0), (0.0, 300.0), (0.5, 100.0)])
+def test_friction_spring_cap_and_slip_work(mu, c):
     # B slides along +x at v on a wide rigid ground: K_t = k_t L_c = k_t (L_c = 1 m), the
-    # tangential force grows by k_t v dt per step (eq 4.9) to the cap mu k_n A (eq 4.10),
+    # tangential force grows by k_t v dt per step (eq 4.9) to the cap c L_c + mu k_n A (eq
+    # 4.10 with the contact's cohesion c over L_c = 1 m: a crack's Mohr-Coulomb strength),
     # then stays there; the friction dissipation over N steps is cap x total slip with
     # slip = N v dt - cap / K_t (the spring stretch is not slip).  Round-off over 400
     # steps: 1e-9 relative.
-    kn, kt, mu, v_t, dt, n_steps = 1e5, 2e4, 0.5, 0.1, 1e-3, 400
+    kn, kt, v_t, dt, n_steps = 1e5, 2e4, 0.1, 1e-3, 400
     ground = np.array([[-2.0, -1.0], [2.0, -1.0], [2.0, 0.0], [-2.0, 0.0]])
-    x, en, mass, mat, table, pairs = two_body(ground, square(0, -0.01), kn=kn, kt=kt, mu=mu)
+    x, en, mass, mat, table, pairs = two_body(ground, square(0, -0.01), kn=kn, kt=kt, mu=mu,
+                                              c=c)
     mass[:4] = np.inf
     v = np.zeros_like(x)
     v[4:, 0] = v_t
     shear = np.zeros((1, 2))
-    cap = mu * kn * 0.01
+    cap = c * 1.0 + mu * kn * 0.01
     total = 0.0
     for k in range(1, n_steps + 1):
         force, (_, d_f, _) = run_pair(x, v, mass, en, mat, table, pairs, shear, dt)
@@ -464,6 +467,10 @@ def test_bad_input_clear_errors():
     with pytest.raises(ValueError, match="contact_table"):
         run_pair(xx, np.zeros_like(xx), mass, en2, mat, table, pairs, np.zeros((1, 2)))
     table[0, 0] = 1e5
+    table[0, 4] = np.nan
+    with pytest.raises(ValueError, match=r"contact_table entries \[k_n, k_t, mu, zeta, c\]"):
+        run_pair(xx, np.zeros_like(xx), mass, en2, mat, table, pairs, np.zeros((1, 2)))
+    table[0, 4] = 0.0
     with pytest.raises(ValueError, match="x .*NaN"):
         run_pair(bad, np.zeros_like(xx), mass, en2, mat, table, pairs, np.zeros((1, 2)))
     with pytest.raises(ValueError, match="dt"):
@@ -530,3 +537,37 @@ def test_contact_energy_split_forces_and_mid_step_work():
     assert contact.mid_step_work(f[:1], v0[:1], v1[:1], 0.5) == pytest.approx(1.0, rel=1e-15)
     with pytest.raises(ValueError, match="same shape"):
         contact.mid_step_work(f, v0[:1], v1, 0.5)
+
+
+@pytest.mark.parametrize("mu_b, c_b, expected", [
+    (0.0, 0.0, 0.0),  # a frictionless, cohesionless side: no strength
+    (0.5, 0.0, 0.5 * 1e5 * 0.01),  # a sand's crack on a clay's: the sand's friction is weaker
+    (0.5, 300.0, 600.0),  # stronger than the clay's c_u L_c: the clay's
+])
+def test_the_weaker_sides_strength_governs(mu_b, c_b, expected):
+    # B (material 1) slides on a rigid ground of material 0, an undrained clay's crack (mu 0,
+    # c 600 kPa): the tangential force settles at min(c_a L_c + mu_a F_n, c_b L_c + mu_b F_n)
+    # with L_c = 1 m and F_n = k_n A = 1e5 x 0.01 = 1000 kN/m (flat penetration 0.01 m)
+    ground = np.array([[-2.0, -1.0], [2.0, -1.0], [2.0, 0.0], [-2.0, 0.0]])
+    x, en, mass, _, _, pairs = two_body(ground, square(0, -0.01))
+    table = np.array([[1e5, 2e4, 0.0, 0.0, 600.0], [1e5, 2e4, mu_b, 0.0, c_b]])
+    mat = np.array([0, 1], dtype=np.int32)
+    mass[:4] = np.inf
+    v = np.zeros_like(x)
+    v[4:, 0] = 0.1
+    shear = np.zeros((1, 2))
+    for _ in range(600):  # the spring (2 kN/m a step) reaches every cap below 1200
+        run_pair(x, v, mass, en, mat, table, pairs, shear, 1e-3)
+    assert -shear[0, 0] == pytest.approx(expected, rel=1e-12, abs=1e-12)
+
+
+def test_a_four_column_table_is_a_cohesionless_one():
+    # contact_forces takes [k_n, k_t, mu, zeta] tables as c = 0: same forces and history
+    x, en, mass, mat, table, pairs = two_body(square(0, 0), square(0.5, 0.3))
+    v = np.zeros_like(x)
+    v[4:, 0] = 0.3
+    s4, s5 = np.zeros((1, 2)), np.zeros((1, 2))
+    f4, _ = run_pair(x, v, mass, en, mat, table[:, :4], pairs, s4)
+    f5, _ = run_pair(x, v, mass, en, mat, table, pairs, s5)
+    np.testing.assert_array_equal(f4, f5)
+    np.testing.assert_array_equal(s4, s5)

@@ -100,6 +100,35 @@ def test_d7_friction_block_on_plane(ratio):
         assert abs(a / ((F - mu * N) / m) - 1.0) < 0.02
 
 
+@pytest.mark.parametrize("ratio", [0.5, 2.0])
+def test_d7_cohesive_crack_block_on_plane(ratio):
+    """D7 on a cohesive crack (phi = 0, cohesion c: an undrained clay at its residual c_u): a
+    block of width B pushed by F = ratio c B sticks below c B and slides with the acceleration
+    (F - c B) / m above it, whatever its weight. c B is a tenth of the block's weight, so the
+    push (at mid-height) does not tilt the block off its contact length."""
+    c, width = 2.0, 1.0
+    mat = Material(name="clay", E=1.0e5, nu=0.3, density=2.0,
+                   contact=Contact(damping=0.2, phi=0.0, cohesion=c))
+    st = blocks([(20.0, 0.5, 40, 1, (0.0, 0.0), 0), (width, 1.0, 2, 2, (1.0, 0.5), 0)], [mat],
+                rigid=[0])
+    blk = np.unique(st.element_nodes[40:].ravel())
+    m = st.mass[blk].sum()
+    F = ratio * c * width
+    st.external_force[blk, 0] = F * st.mass[blk] / m
+    run(st, until_time=0.3, contact=True)  # contact established
+    x0, v0, t0 = st.x[blk, 0].mean(), st.v[blk, 0].mean(), st.time
+    run(st, until_time=0.8, contact=True)
+    dx = st.x[blk, 0].mean() - x0
+    if ratio < 1.0:
+        # sticks: over 0.5 s it moves < 1 mm (without cohesion it would move F/m t^2/2 =
+        # 0.06 m; what remains is the elastic tangential spring)
+        assert abs(dx) < 1e-3
+    else:
+        a = (st.v[blk, 0].mean() - v0) / (st.time - t0)
+        # bar 2 % (D7); the contact length is the block's width while it slides on the flat
+        assert abs(a / ((F - c * width) / m) - 1.0) < 0.02
+
+
 def test_d8_elastic_collision_conserves_momentum_and_energy():
     """D8: two blocks collide without damping: momentum to 1e-6, energy to 2 %."""
     mat = Material(name="block", E=1.0e5, nu=0.3, density=2.0, contact=Contact(phi=0.0))

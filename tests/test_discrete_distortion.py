@@ -101,7 +101,7 @@ def test_a_flowing_element_parts_from_its_neighbours_instead_of_pancaking(monkey
     for e, kappa in first_marked.items():
         assert st.fragment_cap[e] == kappa.max()
         assert st.plastic_strain[e][np.argmax(kappa)] == kappa.max()  # the cap held it
-    np.testing.assert_array_equal(ties.band_plastic_cap(st)[fragment], st.fragment_cap[fragment])
+    np.testing.assert_array_equal(ties.plastic_cap(st)[fragment], st.fragment_cap[fragment])
     st, options = _slump()
     monkeypatch.setattr(ties, "mark_fragments", lambda state, limit=0.0: 0)
     with ExplicitSolver(st, options) as solver, pytest.raises(RunUnstable, match="distorted"):

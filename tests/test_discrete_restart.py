@@ -23,8 +23,8 @@ from hybrid.discrete.state import DiscreteState
 from hybrid.errors import OutputError
 from hybrid.materials import Material, Strength
 
-# softening: the band cap (elements beside failed bonds stop yielding at residual) is part of
-# what a resumed run must restore
+# softening: the bonds that fail where the material has softened, and the cohesive contacts
+# they leave, are part of what a resumed run must restore
 MAT = Material(name="clay", E=1.0e5, nu=0.3, density=2.0, cohesion=5.0, phi=20.0,
                residual=Strength(cohesion=1.0, phi=20.0), softening_displacement=0.01)
 OPTS = RunOptions(mass_damping=5.0, split_every=10)

@@ -77,6 +77,18 @@ def test_save_load_roundtrip(tmp_path):
         assert "x" in data.files
 
 
+def test_a_checkpoint_without_contact_cohesion_reads_as_cohesionless(tmp_path):
+    """A checkpoint whose contact table has the four columns [k_n, k_t, mu, zeta] (written
+    before contacts had a cohesion) reads with c = 0, the law it ran with."""
+    st = rectangle(2.0, 1.0, 2, 1, material=MAT)
+    arrays = st.arrays()
+    arrays["contact_table"] = arrays["contact_table"][:, :4]
+    np.savez(tmp_path / "old.npz", **arrays)
+    back = DiscreteState.load(tmp_path / "old.npz")
+    np.testing.assert_array_equal(back.contact_table[:, :4], st.contact_table[:, :4])
+    assert back.contact_table.shape == (1, 5) and back.contact_table[0, 4] == 0.0
+
+
 # --- bad input: clear ValueErrors naming the problem ----------------------------------------
 def test_inverted_element_refused():
     pts, cells = rectangle_mesh(2.0, 1.0, 2, 1)

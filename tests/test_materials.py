@@ -83,6 +83,8 @@ def test_bond_and_contact_records():
         Contact(normal_stiffness=0.0)
     with pytest.raises(MaterialError, match="Contact: damping = 1.5"):
         Contact(damping=1.5)
+    with pytest.raises(MaterialError, match="Contact: cohesion = -2.0"):
+        Contact(cohesion=-2.0)
     with pytest.raises(MaterialError, match="Bond: tensile_strength = -1.0"):
         Bond(tensile_strength=-1.0)
     with pytest.raises(MaterialError, match="Bond: phi = 95"):
@@ -90,12 +92,14 @@ def test_bond_and_contact_records():
     with pytest.raises(MaterialError, match="bond = "):
         Material(name="clay", E=1e4, nu=0.3, bond={"cohesion": 1.0})
     clay = Material(name="clay", E=1e4, nu=0.3, density=2.0, cohesion=10.0, phi=30.0,
-                    bond=Bond(cohesion=4.0, phi=20.0), contact=Contact(phi=25.0, damping=0.2))
+                    bond=Bond(cohesion=4.0, phi=20.0),
+                    contact=Contact(phi=25.0, cohesion=3.0, damping=0.2))
     assert clay.unit_weight == 2.0 * 9.81 and clay.density == 2.0
     weak = clay.weakened(2.0)
     assert weak.bond.cohesion == 2.0 and weak.bond.tensile_strength is None
     assert math.tan(math.radians(weak.bond.phi)) == pytest.approx(math.tan(math.radians(20)) / 2)
     assert math.tan(math.radians(weak.contact.phi)) == pytest.approx(
         math.tan(math.radians(25)) / 2)
+    assert weak.contact.cohesion == 1.5
     assert weak.contact.damping == 0.2 and weak.density == 2.0
     assert clay.peak.cohesion == 10.0 and clay.peak.phi == 30.0

@@ -3,9 +3,9 @@
 ``RunOptions.plastic_strain_cap`` (a Gauss point turns elastic beyond a plastic strain) and
 ``RunOptions.split_plastic_strain`` (bonds fail beyond a plastic strain) stay for experts; a
 shipped case relies instead on its materials: bonds fail by the strength criteria and where
-the material has softened to residual, an element beside a failed bond yields up to its
-residual (``hybrid.discrete.ties.band_plastic_cap``), and an element distorted as far as an
-element can follow the flow parts from its neighbours (``ties.DISTORTION_LIMIT``). The cases
+the material has softened to residual, a failed bond carries the residual strength as a
+contact (``hybrid.materials.Contact``), and an element distorted as far as an element can
+follow the flow parts from its neighbours (``ties.DISTORTION_LIMIT``). The cases
 that still set a knob are named here and in the docs with what they measure without it; the
 list may only shrink.
 """

@@ -39,9 +39,10 @@ def input_fault(state: DiscreteState) -> str | None:
     """What in the state's inputs makes a run meaningless (None: nothing found).
 
     Non-finite gravity, external forces, prescribed velocities or masses, a contact damping
-    ratio outside [0, 1], malformed smooth walls (non-finite, a normal that is not a unit
-    vector, s_min > s_max, wall nodes out of range), and tie groups with no mass that are
-    free to move (their acceleration would be a force over zero).
+    ratio outside [0, 1], a negative or non-finite contact cohesion, malformed smooth walls
+    (non-finite, a normal that is not a unit vector, s_min > s_max, wall nodes out of
+    range), and tie groups with no mass that are free to move (their acceleration would be a
+    force over zero).
     """
     for name in ("gravity", "external_force", "prescribed_velocity", "mass"):
         values = np.asarray(getattr(state, name))
@@ -57,6 +58,12 @@ def input_fault(state: DiscreteState) -> str | None:
         m = int(np.argmax(bad_zeta))
         return (f"contact damping ratio {zeta[m]!r} of material {m} is outside [0, 1] (above "
                 "1 the contact damping forces push the bodies apart and create energy)")
+    coh = state.contact_table[:, 4]
+    bad_c = ~((coh >= 0.0) & np.isfinite(coh))
+    if bad_c.any():
+        m = int(np.argmax(bad_c))
+        return (f"contact cohesion {coh[m]!r} of material {m} is not a finite number >= 0 "
+                "kPa")
     fault = wall_fault(state)
     if fault is not None:
         return fault

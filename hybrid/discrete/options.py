@@ -90,8 +90,8 @@ class RunOptions:
         plastic_strain_cap: expert option for materials without softening: a Gauss point
             whose accumulated plastic strain reaches it responds elastically from then on [-]
             (None: no cap), so that a perfectly plastic element flowing without end does not
-            turn inside out. With softening materials none is needed: an element beside a
-            failed bond stops yielding at its residual (``ties.band_plastic_cap``).
+            turn inside out. No shipped case needs it: an element distorted as far as an
+            element can follow parts from its neighbours (``ties.DISTORTION_LIMIT``).
         split_every: check the interfaces for failure and split every N steps (0: never).
         split_plastic_strain: expert option for materials without softening: interfaces
             also fail where the adjacent Gauss points' mean plastic strain exceeds it [-]

@@ -285,8 +285,7 @@ class ExplicitSolver:
         """Read what may have changed since the last run: loads, supports, masses, splits."""
         st = self.state
         self._external = bool(np.any(st.external_force))
-        self._point_cap = ties.band_plastic_cap(st, self._cap)
-        self._n_failed = int(np.count_nonzero(~st.interface_intact))  # that the cap is of
+        self._point_cap = ties.plastic_cap(st, self._cap)
         mass_tot = float(np.sum(st.mass))
         # floor of the contact search margin [m]
         self._margin_floor = 1e-6 * math.sqrt(mass_tot / float(st.density.max()))
@@ -354,10 +353,8 @@ class ExplicitSolver:
             modes = ties.check_interfaces(st, self._split_limit)
             if modes.any():
                 self.n_split += ties.split_interfaces(st, modes > 0)
-            # a split, or a new fragment (it may have no bond left to split)
-            if modes.any() or new_fragments:
-                self._point_cap = ties.band_plastic_cap(st, self._cap)
-                self._n_failed = int(np.count_nonzero(~st.interface_intact))
+            if new_fragments:
+                self._point_cap = ties.plastic_cap(st, self._cap)
         self.steps += 1
 
     @property
@@ -498,11 +495,7 @@ class ExplicitSolver:
                         stop = "rest"
                         break
                     if on_check is not None:
-                        n_failed = self._n_failed
                         done = on_check(st)
-                        if int(np.count_nonzero(~st.interface_intact)) != n_failed:
-                            self._point_cap = ties.band_plastic_cap(st, self._cap)  # split
-                            self._n_failed = int(np.count_nonzero(~st.interface_intact))
                         if done:
                             stop = "callback"
                             break

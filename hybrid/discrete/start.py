@@ -21,6 +21,7 @@ there and reports how far it moved).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -116,7 +117,10 @@ def start_from_snapshot(snapshot: CellSnapshot, *, splittable: np.ndarray,
               "element": "Q4" if s.cells.shape[1] == 4 else "T3",
               "strength_factor": float(s.strength_factor),
               "strengths": {m.name: {"cohesion_kPa": m.cohesion, "phi_deg": m.phi,
-                                     "psi_deg": m.psi} for m in s.materials if m.is_plastic}}
+                                     "psi_deg": m.psi} for m in s.materials if m.is_plastic},
+              "crack_strengths": {m.name: {"cohesion_kPa": float(row[4]),
+                                           "phi_deg": math.degrees(math.atan(row[2]))}
+                                  for m, row in zip(s.materials, disc.contact_table)}}
     return Handover(disc, splittable, frozen, load_forces, boundary_nodes, report,
                     tuple(s.material_names))
 

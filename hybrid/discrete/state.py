@@ -44,16 +44,17 @@ def material_rows(materials: Sequence[Material], element_size: float):
 
     Returns (material_table (n, 7) and elastic_only (n,) from ``kernel_table``, density (n,)
     [t/m3], interface_table (n, 3) [bond cohesion kPa, tan phi, tensile strength kPa] and
-    contact_table (n, 4) [k_n kPa/m, k_t kPa/m, mu, zeta]); ``element_size`` [m] sets the
-    default contact stiffness k_n = 10 E / size. A bond left unset follows the material's own
-    strength when it is plastic and never breaks when it is elastic (``Bond``); the contact
-    friction left unset is the material's residual phi when it softens, else its phi.
+    contact_table (n, 5) [k_n kPa/m, k_t kPa/m, mu, zeta, c kPa]); ``element_size`` [m] sets
+    the default contact stiffness k_n = 10 E / size. A bond left unset follows the material's
+    own strength when it is plastic and never breaks when it is elastic (``Bond``); the
+    contact strength left unset is the material's residual strength (c_r, phi_r) when it
+    softens, else its phi without cohesion (``Contact``).
     """
     mt, el = kernel_table(materials)
     n = len(materials)
     dens = np.zeros(n)
     it = np.zeros((n, 3))
-    ct = np.zeros((n, 4))
+    ct = np.zeros((n, 5))
     for i, m in enumerate(materials):
         if not m.density > 0.0:
             raise ValueError(f"materials[{i}] ('{m.name}') has unit_weight {m.unit_weight}: the "
@@ -72,10 +73,12 @@ def material_rows(materials: Sequence[Material], element_size: float):
         kn = (contact.normal_stiffness if contact.normal_stiffness is not None
               else 10.0 * m.E / element_size)
         kt = contact.shear_stiffness if contact.shear_stiffness is not None else kn
-        # separated blocks slide at the residual angle when the material softens
-        own_phi = m.phi if m.residual is None else m.residual.phi
+        # a crack in a softening material carries its residual strength (Contact)
+        own_c, own_phi = (0.0, m.phi) if m.residual is None else (m.residual.cohesion,
+                                                                  m.residual.phi)
         phic = contact.phi if contact.phi is not None else own_phi
-        ct[i] = [kn, kt, math.tan(math.radians(phic)), contact.damping]
+        cc = contact.cohesion if contact.cohesion is not None else own_c
+        ct[i] = [kn, kt, math.tan(math.radians(phic)), contact.damping, cc]
     return mt, dens, el, it, ct
 
 
@@ -106,7 +109,7 @@ class DiscreteState:
     density: np.ndarray  # (n_mat,) [t/m3]
     elastic_only: np.ndarray  # (n_mat,) bool, skip the Mohr-Coulomb return
     interface_table: np.ndarray  # (n_mat, 3) [cohesion kPa, tan_phi, tensile_strength kPa]
-    contact_table: np.ndarray  # (n_mat, 4) [k_n kPa/m, k_t kPa/m, mu, zeta]
+    contact_table: np.ndarray  # (n_mat, 5) [k_n kPa/m, k_t kPa/m, mu, zeta, c kPa]
     gravity: np.ndarray = field(default_factory=lambda: np.array([0.0, -GRAVITY]))  # (2,) [m/s2]
     time: float = 0.0  # [s]
     step: int = 0
@@ -302,7 +305,7 @@ _LAYOUT: dict[str, tuple[str, tuple[str | int, ...]]] = {
     "prescribed_velocity": ("f8", ("N", 2)), "external_force": ("f8", ("N", 2)),
     "material_table": ("f8", ("M", "W")), "density": ("f8", ("M",)),
     "elastic_only": ("b1", ("M",)), "interface_table": ("f8", ("M", 3)),
-    "contact_table": ("f8", ("M", 4)), "gravity": ("f8", (2,)), "time": ("f8", ()),
+    "contact_table": ("f8", ("M", 5)), "gravity": ("f8", (2,)), "time": ("f8", ()),
     "step": ("i8", ()), "internal_force": ("f8", ("N", 2)), "group_mass": ("f8", ("S",)),
     "group_energy": ("f8", ("S", 4)), "ledger": ("f8", (8,)),
     "contact_pairs": ("i8", ("P", 2)), "contact_shear": ("f8", ("P", 2)),
@@ -401,6 +404,8 @@ def _read_checkpoint(path: Path, fh: Any) -> tuple[dict[str, Any], dict[str, np.
         kind, dims = _LAYOUT[name]
         shape, dtype = heads[name]
         expected = tuple(sizes[d] if isinstance(d, str) else d for d in dims)
+        if name == "contact_table" and shape == (sizes["M"], 4):
+            expected = shape  # a layout without the contacts' cohesion: c = 0 (as it ran)
         if dtype.str.lstrip("<>|=") != kind:
             raise ValueError(f"checkpoint {path}: field {name!r} has dtype {dtype}, expected "
                              f"{np.dtype(kind)}; the file is damaged or not written by "
@@ -417,6 +422,9 @@ def _read_checkpoint(path: Path, fh: Any) -> tuple[dict[str, Any], dict[str, np.
         raise ValueError(f"checkpoint {path} cannot be read ({err}): restart from the "
                          "previous checkpoint (checkpoint.prev.npz) or from the start") from None
     arrays = {n: a if a.ndim == 0 else np.ascontiguousarray(a) for n, a in arrays.items()}
+    if arrays["contact_table"].shape[1] == 4:
+        arrays["contact_table"] = np.hstack([arrays["contact_table"],
+                                             np.zeros((sizes["M"], 1))])
     for name, size in _INDEX_RANGE.items():
         if name not in arrays:
             continue

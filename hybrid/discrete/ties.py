@@ -14,8 +14,9 @@ with the interface properties of the weaker of the two materials (the smaller of
 c, tan phi and the tensile strength). An interface also fails where the material beside it has
 softened to its residual strength (``hybrid.constitutive.softening``): when the Gauss points
 next to the edge on either side have all reached the residual slip, the softened band
-becomes a discontinuity, and the failed interface is from then on a frictional contact at the
-residual angle without cohesion (``Contact.phi`` defaults to the residual phi).
+becomes a discontinuity, and the failed interface is from then on a contact that carries the
+residual strength, c_r + sigma_n tan(phi_r) while its sides press on each other (``Contact``
+defaults to the residual cohesion and angle).
 Optionally (``split_plastic_strain``, an addition to the thesis) an interface also fails when
 the mean accumulated plastic strain of those Gauss points exceeds the limit: inside a
 perfectly plastic element the stress is capped on the yield surface, so the traction on a mesh
@@ -28,7 +29,7 @@ below ``DISTORTION_LIMIT``, or a Q4 has folded towards a corner (the least ratio
 corner's Jacobian to its value at creation, ``corner_ratio``, below ``CORNER_LIMIT``), at a
 splitting check, it becomes a fragment for good
 (``DiscreteState.fragment_cap``, ``mark_fragments``): its splittable bonds fail and its
-points yield no further than its most strained one had then (``band_plastic_cap``), since a
+points yield no further than its most strained one had then (``plastic_cap``), since a
 fragment flowing further inside would pancake and stop the explicit run. The
 corner check is needed besides the stable step: an isochoric flow can fold a Q4 into a dart
 (one corner's two edges turning into line, then past it) while its area and longest edge, so
@@ -46,7 +47,6 @@ import numpy as np
 
 import hybrid  # noqa: F401
 from hybrid.constitutive.softening import softening_fraction
-from hybrid.constitutive.table import SOFTENING_DISPLACEMENT
 from hybrid.discrete.integrate import element_held, step_lengths
 from hybrid.discrete.state import LEDGER_GROUPS, DiscreteState, groups_csr
 
@@ -55,7 +55,7 @@ import numba  # isort: skip
 __all__ = ["check_interfaces", "split_interfaces", "limit_splitting", "FAIL_TENSION",
            "FAIL_SHEAR", "FAIL_PLASTIC", "FAIL_SOFTENED", "FAIL_DISTORTED", "DISTORTION_LIMIT",
            "CORNER_LIMIT", "stable_step_ratio", "corner_ratio", "mark_fragments",
-           "band_plastic_cap"]
+           "plastic_cap"]
 
 FAIL_TENSION = 1
 FAIL_SHEAR = 2
@@ -334,29 +334,16 @@ def split_interfaces(state: DiscreteState, failed) -> int:
     return int(idx.size)
 
 
-def band_plastic_cap(state: DiscreteState, cap: float = math.inf) -> np.ndarray:
+def plastic_cap(state: DiscreteState, cap: float = math.inf) -> np.ndarray:
     """Plastic strain beyond which each element's Gauss points respond elastically [-].
 
-    An element beside a failed interface, of a softening material, yields up to its residual
-    plastic strain ``kappa_r = u_r / (sqrt(3) h)`` (``hybrid.constitutive.softening``) and
-    no further: its softened band has become a discontinuity, the failed interface, which
-    carries the further slip as a frictional contact at the residual angle. This is the
-    crack-band model handing over to a discrete crack (Oliver 1996, strong discontinuities;
-    Munjiza 2004, combined finite-discrete elements whose bulk stays elastic): a band one
-    element wide that went on flowing at residual would shear its elements inside out
-    instead of sliding on the crack that its softening opened. Every other element yields
-    up to ``cap`` (``RunOptions.plastic_strain_cap``; inf: no limit). A fragment yields up to
-    its ``state.fragment_cap`` (see module). Returns (n_elements,).
+    ``cap`` (``RunOptions.plastic_strain_cap``, an expert option; inf: none) for every
+    element, and a fragment's ``state.fragment_cap`` (see module). An element beside a failed
+    interface goes on yielding: a softened band at its residual and the crack that opened in
+    it carry the same residual strength (``Contact``), and where the band's elements distort
+    as far as an element can follow, they become fragments. Returns (n_elements,).
     """
-    n_el = state.element_nodes.shape[0]
-    out = np.full(n_el, float(cap))
-    u_r = state.material_table[state.element_material, SOFTENING_DISPLACEMENT]
-    beside = np.zeros(n_el, dtype=bool)
-    beside[state.interface_elements[~state.interface_intact].ravel()] = True
-    band = beside & (u_r > 0.0)
-    kappa_r = u_r[band] / (math.sqrt(3.0) * state.element_length[band])
-    out[band] = np.minimum(out[band], kappa_r)
-    return np.minimum(out, state.fragment_cap)
+    return np.minimum(np.full(state.element_nodes.shape[0], float(cap)), state.fragment_cap)
 
 
 def limit_splitting(state: DiscreteState, elements) -> int:

@@ -78,7 +78,7 @@ def _contact_energy(x, element_nodes, element_material, contact_table, pairs, sh
                                                 pa, pb, piece_a, piece_b, out, tmp)
         if area <= 0.0:
             continue
-        kn, kt, mu, zeta = pair_properties(element_material, contact_table, a, b)
+        kn, kt = pair_properties(element_material, contact_table, a, b)[:2]
         u_n += 0.5 * kn * area * area / lc
         if kt > 0.0:
             u_t += 0.5 * (shear[p, 0] ** 2 + shear[p, 1] ** 2) / (kt * lc)

@@ -212,7 +212,8 @@ def contact_forces(
     Arguments (state layout of ``DiscreteState``): ``x``, ``v`` (n_nodes, 2) [m, m/s];
     ``mass`` (n_nodes,) lumped masses [t] (``inf`` on rigid elements, see
     ``rigid_contact_mass``); ``element_nodes`` (n_el, 3 or 4) ccw; ``element_material``
-    (n_el,); ``contact_table`` (n_mat, 4) = [k_n kPa/m, k_t kPa/m, mu, zeta]; ``pairs``
+    (n_el,); ``contact_table`` (n_mat, 5) = [k_n kPa/m, k_t kPa/m, mu, zeta, c kPa] (4
+    columns: c = 0, a cohesionless contact); ``pairs``
     (n_pairs, 2) from ``find_contact_pairs``; ``shear`` (n_pairs, 2) tangential force
     history on B [kN/m], updated in place (zeroed for separated pairs); ``dt`` [s].
     ``split_force`` (2, n_nodes, 2), if given, receives (added) two parts of the nodal
@@ -257,12 +258,14 @@ def contact_forces(
     if np.isnan(mass).any() or (mass < 0).any():
         raise ValueError("mass must be >= 0 (inf marks rigid elements), got NaN or negative")
     ct = np.ascontiguousarray(contact_table, dtype=np.float64)
-    if ct.ndim != 2 or ct.shape[1] != 4:
-        raise ValueError(f"contact_table must have shape (n_materials, 4), got {ct.shape}")
+    if ct.ndim != 2 or ct.shape[1] not in (4, 5):
+        raise ValueError(f"contact_table must have shape (n_materials, 5) (or 4: no cohesion), "
+                         f"got {ct.shape}")
+    if ct.shape[1] == 4:
+        ct = np.hstack([ct, np.zeros((ct.shape[0], 1))])
     if not np.isfinite(ct).all() or (ct < 0).any():
-        raise ValueError(
-            f"contact_table entries [k_n, k_t, mu, zeta] must be finite and >= 0, got {ct.tolist()}"
-        )
+        raise ValueError(f"contact_table entries [k_n, k_t, mu, zeta, c] must be finite and "
+                         f">= 0, got {ct.tolist()}")
     if element_material.size and (
         element_material.min() < 0 or element_material.max() >= ct.shape[0]
     ):

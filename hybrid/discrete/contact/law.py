@@ -13,12 +13,15 @@ the contact length ``L_c`` (``polygon.pair_overlap``):
   nodes); an element with a non-finite mass is rigid and ``m_eff`` is the other's mass;
 * tangential force: incremental spring ``dF_t = -k_t L_c v_t dt`` (eq 4.9), history kept
   per pair (``shear``), rotated onto the current tangent each step (projected, magnitude
-  kept), capped at ``mu F_n`` (eq 4.10).  Slip work ``mu F_n * slip`` is the friction
-  dissipation (``slip = (|F_trial| - mu F_n) / (k_t L_c)``);
+  kept), capped while the pair presses (``F_n > 0``) at the weaker of the two materials'
+  strengths ``c L_c + mu F_n`` (eq 4.10 with a cohesion ``c`` [kPa] over the contact length:
+  the Mohr-Coulomb strength of a slip surface ``tau <= c + sigma_n tan phi``, which runs
+  through the weaker side).  Slip work ``cap * slip`` is the friction dissipation
+  (``slip = (|F_trial| - cap) / (k_t L_c)``);
 * ``k_n`` and ``k_t`` are interface stiffnesses in kPa/m (traction per unit displacement):
   a penetration ``d`` over a contact length ``L_c`` gives ``F_n = k_n A ~ k_n d L_c``, and
   the tangential spring stiffness of the pair is ``k_t L_c`` (kN/m per m); between two
-  elements with different materials every entry of ``contact_table`` is the smaller of the
+  elements with different materials ``k_n``, ``k_t`` and ``zeta`` are the smaller of the
   two;
 * the pair force acts at the overlap centroid ``c``; it goes to each element's nodes through
   the element's shape functions at ``c`` (Q4: bilinear, the isoparametric map inverted by
@@ -41,14 +44,19 @@ from hybrid.discrete.contact.polygon import pair_overlap
 
 @njit(cache=True)
 def pair_properties(element_material, contact_table, a, b):
-    """``(k_n, k_t, mu, zeta)`` of the pair a-b: the smaller of the two materials' entries."""
+    """``(k_n, k_t, zeta, mu_a, c_a, mu_b, c_b)`` of the pair a-b.
+
+    The stiffnesses and the damping ratio are the smaller of the two materials' entries; the
+    strengths (friction coefficient, cohesion [kPa]) are each side's, the weaker one at the
+    pair's normal force governing (``point_law``).
+    """
     ma_ = element_material[a]
     mb_ = element_material[b]
     kn = min(contact_table[ma_, 0], contact_table[mb_, 0])
     kt = min(contact_table[ma_, 1], contact_table[mb_, 1])
-    mu = min(contact_table[ma_, 2], contact_table[mb_, 2])
     zeta = min(contact_table[ma_, 3], contact_table[mb_, 3])
-    return kn, kt, mu, zeta
+    return (kn, kt, zeta, contact_table[ma_, 2], contact_table[ma_, 4], contact_table[mb_, 2],
+            contact_table[mb_, 4])
 
 
 @njit(cache=True)
@@ -124,11 +132,14 @@ def _effective_mass(m_a, m_b):
 
 
 @njit(cache=True)
-def point_law(area, lc, nx, ny, vx, vy, m_eff, kn, kt, mu, zeta, sx, sy, dt):
+def point_law(area, lc, nx, ny, vx, vy, m_eff, kn, kt, mu_a, c_a, mu_b, c_b, zeta, sx, sy,
+              dt):
     """The force law at the contact point.
 
     Normal force (eq 4.6) with damping, never adhesive, and the tangential spring (eq 4.9)
-    capped at ``mu F_n`` (eq 4.10).
+    capped while ``F_n > 0`` at ``min(c_a L_c + mu_a F_n, c_b L_c + mu_b F_n)`` (eq 4.10 with
+    the cohesion [kPa] of each side over the contact length ``L_c``: the weaker side's
+    strength), at zero when the pair does not press.
 
     ``(vx, vy)``: velocity of B relative to A at the contact point; ``(sx, sy)``: the
     tangential history at the start of the step.  Returns ``(f_n, f_el, sx, sy, diss_f,
@@ -159,7 +170,9 @@ def point_law(area, lc, nx, ny, vx, vy, m_eff, kn, kt, mu, zeta, sx, sy, dt):
     sx -= k_t * vtx * dt
     sy -= k_t * vty * dt
     s_tr = np.sqrt(sx * sx + sy * sy)
-    cap = mu * f_n  # eq 4.10
+    cap = 0.0  # eq 4.10 with cohesion: the weaker side's strength
+    if f_n > 0.0:
+        cap = min(c_a * lc + mu_a * f_n, c_b * lc + mu_b * f_n)
     diss_f = 0.0
     if s_tr > cap:
         if k_t > 0.0:
@@ -190,7 +203,7 @@ def pair_contact(a, b, ra, rb, x, v, mass, element_nodes, element_material, cont
         shear[p, 0] = 0.0
         shear[p, 1] = 0.0
         return 0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
-    kn, kt, mu, zeta = pair_properties(element_material, contact_table, a, b)
+    kn, kt, zeta, mu_a, c_a, mu_b, c_b = pair_properties(element_material, contact_table, a, b)
 
     # shape functions at the contact point, relative velocity of B w.r.t. A, masses
     nen = element_nodes.shape[1]
@@ -209,8 +222,9 @@ def pair_contact(a, b, ra, rb, x, v, mass, element_nodes, element_material, cont
         m_b += mass[nb_]
     m_eff = _effective_mass(m_a, m_b)
 
-    f_n, f_el, sx, sy, diss_f, diss_d = point_law(area, lc, nx, ny, vx, vy, m_eff, kn, kt, mu,
-                                                  zeta, shear[p, 0], shear[p, 1], dt)
+    f_n, f_el, sx, sy, diss_f, diss_d = point_law(area, lc, nx, ny, vx, vy, m_eff, kn, kt, mu_a,
+                                                  c_a, mu_b, c_b, zeta, shear[p, 0],
+                                                  shear[p, 1], dt)
     shear[p, 0] = sx
     shear[p, 1] = sy
     return 1, f_n * nx + sx, f_n * ny + sy, diss_f, diss_d, f_n - f_el, nx, ny

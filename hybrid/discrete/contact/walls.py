@@ -186,8 +186,8 @@ def _wall_kernel(x, v, mass, element_nodes, element_material, contact_table, fix
                 vx += w[0, a] * v[i, 0]
                 vy += w[0, a] * v[i, 1]
             # the pair law with the wall as the rigid side A: frictionless, no history
-            f_n, f_el = point_law(area, lc, nx, ny, vx, vy, me, kn, 0.0, 0.0, zeta, 0.0, 0.0,
-                                  dt)[:2]
+            f_n, f_el = point_law(area, lc, nx, ny, vx, vy, me, kn, 0.0, 0.0, 0.0, 0.0, 0.0,
+                                  zeta, 0.0, 0.0, dt)[:2]
             n_active += 1
             energy += kn * area * area / (2.0 * lc)
             if dt > 0.0:  # dt = 0: the energy only
