@@ -13,8 +13,10 @@ Problem
     fill and the clays (thesis 6.3.1.1). Beyond the thesis (``softening``): the strengths fall
     to residual over a slip ``softening_displacement``, the fill to c = 0 and Table 6.2's
     phi_r, the phi = 0 clays to c_u tan(phi_r') / tan(phi') (the drained ratio, assumed to
-    hold undrained); with ``discrete_softening`` only in the discrete phase (the dam built at
-    Table 6.3's peak strengths, the failed mass softening once it moves). No analysis sets an
+    hold undrained), and a failed bond carries that residual strength (in the clays the
+    residual c_u on any normal stress, as the undrained analysis has it); with
+    ``discrete_softening`` only in the discrete phase (the dam built at Table 6.3's peak
+    strengths, the failed mass softening once it moves). No analysis sets an
     expert option of the discrete phase.
 Set-up
     Base fixed, sides on vertical rollers. Stage 1: gravity on the foundation (key trench open),

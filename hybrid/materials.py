@@ -142,7 +142,10 @@ class Contact:
             strength of the band it replaces: in an undrained (phi = 0) clay, its residual
             c_u on any normal stress; in a drained soil (c_r = 0 usually), friction alone.
             Between two materials the weaker of their two strengths at the contact's normal
-            force governs (the crack runs through the weaker side).
+            force governs (the crack runs through the weaker side). It acts in full as soon
+            as two faces press, however lightly: a crack that closes again, or a block that
+            lands on another, carries c at once (a total-stress strength does not depend on
+            the pressure).
         damping: viscous damping ratio zeta [-] of the normal spring (0 <= zeta <= 1; 0: none,
             separated blocks rattle until mass damping stops them).
     """

@@ -104,8 +104,8 @@ def test_d7_friction_block_on_plane(ratio):
 def test_d7_cohesive_crack_block_on_plane(ratio):
     """D7 on a cohesive crack (phi = 0, cohesion c: an undrained clay at its residual c_u): a
     block of width B pushed by F = ratio c B sticks below c B and slides with the acceleration
-    (F - c B) / m above it, whatever its weight. c B is a tenth of the block's weight, so the
-    push (at mid-height) does not tilt the block off its contact length."""
+    (F - c B) / m above it (its weight plays no part: phi = 0). c B is a tenth of the block's
+    weight, so the push (at mid-height) does not tilt the block off its contact length."""
     c, width = 2.0, 1.0
     mat = Material(name="clay", E=1.0e5, nu=0.3, density=2.0,
                    contact=Contact(damping=0.2, phi=0.0, cohesion=c))

@@ -119,7 +119,7 @@ def start_from_snapshot(snapshot: CellSnapshot, *, splittable: np.ndarray,
               "strengths": {m.name: {"cohesion_kPa": m.cohesion, "phi_deg": m.phi,
                                      "psi_deg": m.psi} for m in s.materials if m.is_plastic},
               "crack_strengths": {m.name: {"cohesion_kPa": float(row[4]),
-                                           "phi_deg": math.degrees(math.atan(row[2]))}
+                                           "phi_deg": round(math.degrees(math.atan(row[2])), 9)}
                                   for m, row in zip(s.materials, disc.contact_table)}}
     return Handover(disc, splittable, frozen, load_forces, boundary_nodes, report,
                     tuple(s.material_names))

@@ -143,6 +143,10 @@ class DiscreteState:
 
     def __post_init__(self) -> None:
         n = self.x.shape[0]
+        ct = np.asarray(self.contact_table)
+        if ct.ndim != 2 or ct.shape[1] != 5:
+            raise ValueError(f"contact_table has shape {ct.shape}: give (n_materials, 5) rows "
+                             "[k_n kPa/m, k_t kPa/m, mu, zeta, c kPa] (material_rows)")
         if self.internal_force is None:
             self.internal_force = np.zeros((n, 2))
         if self.group_mass is None:
@@ -405,7 +409,10 @@ def _read_checkpoint(path: Path, fh: Any) -> tuple[dict[str, Any], dict[str, np.
         shape, dtype = heads[name]
         expected = tuple(sizes[d] if isinstance(d, str) else d for d in dims)
         if name == "contact_table" and shape == (sizes["M"], 4):
-            expected = shape  # a layout without the contacts' cohesion: c = 0 (as it ran)
+            raise ValueError(f"checkpoint {path} was written by an older version (contacts "
+                             "without cohesion, elements beside failed bonds held at their "
+                             "residual): it cannot be continued with this one; restart from "
+                             "the handover")
         if dtype.str.lstrip("<>|=") != kind:
             raise ValueError(f"checkpoint {path}: field {name!r} has dtype {dtype}, expected "
                              f"{np.dtype(kind)}; the file is damaged or not written by "
@@ -422,9 +429,6 @@ def _read_checkpoint(path: Path, fh: Any) -> tuple[dict[str, Any], dict[str, np.
         raise ValueError(f"checkpoint {path} cannot be read ({err}): restart from the "
                          "previous checkpoint (checkpoint.prev.npz) or from the start") from None
     arrays = {n: a if a.ndim == 0 else np.ascontiguousarray(a) for n, a in arrays.items()}
-    if arrays["contact_table"].shape[1] == 4:
-        arrays["contact_table"] = np.hstack([arrays["contact_table"],
-                                             np.zeros((sizes["M"], 1))])
     for name, size in _INDEX_RANGE.items():
         if name not in arrays:
             continue

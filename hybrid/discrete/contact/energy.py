@@ -7,7 +7,7 @@ The stored elastic energy is ``k_n A^2 / (2 L_c)`` (exact for a flat penetration
 dissipations are measured as the work of the damping and tangential parts of the applied
 forces (the ``split_force`` of ``contact_forces``) on the mid-step velocity, which is exactly
 what the central-difference update takes from the kinetic energy; the force kernel's own
-returns use the start-of-step velocity (``c_n v_n^2 dt``, ``mu F_n x slip``), which
+returns use the start-of-step velocity (``c_n v_n^2 dt``, ``cap x slip``), which
 overestimates the damping when a contact vibrates at a few time steps per period.
 """
 
