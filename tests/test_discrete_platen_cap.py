@@ -101,8 +101,9 @@ def test_material_reaches_the_discrete_tables():
                     contact=Contact(normal_stiffness=5e6, shear_stiffness=5e5, phi=40.0))
     mt, dens, elastic, bond, contact = material_rows([sand, rock], 0.5)
     assert dens.tolist() == [18.0 / 9.81, 2.5] and elastic.tolist() == [False, True]
-    np.testing.assert_allclose(contact[0], [1.4e6, 1.4e6, math.tan(math.radians(30)), 0.2])
-    np.testing.assert_allclose(contact[1], [5e6, 5e5, math.tan(math.radians(40)), 0.0])
+    # [k_n, k_t, mu, zeta, c]: no softening, so the contacts carry no cohesion
+    np.testing.assert_allclose(contact[0], [1.4e6, 1.4e6, math.tan(math.radians(30)), 0.2, 0.0])
+    np.testing.assert_allclose(contact[1], [5e6, 5e5, math.tan(math.radians(40)), 0.0, 0.0])
     np.testing.assert_allclose(bond[0], [2.0, math.tan(math.radians(30)),
                                          2.0 / math.tan(math.radians(30))])
     assert bond[1, 0] == bond[1, 2] == math.inf
