@@ -72,30 +72,38 @@ def test_d6_loaded_block_on_tied_assembly():
     assert abs(abs(np.sum(st.internal_force[base, 1])) / (q * B) - 1.0) < 0.01
 
 
+def _pushed_block(contact: Contact, push):
+    """D7's set-up: a 1 m block (2 t) on a rigid plane of 40 elements, pushed sideways by the
+    force ``push(mass)`` spread over its nodes by mass. Run 0.3 s to establish the contact,
+    then 0.5 s more: returns (the force, the block's mass, its mean x-movement and mean
+    x-acceleration over those 0.5 s)."""
+    mat = Material(name="block", E=1.0e5, nu=0.3, density=2.0, contact=contact)
+    st = blocks([(20.0, 0.5, 40, 1, (0.0, 0.0), 0), (1.0, 1.0, 2, 2, (1.0, 0.5), 0)], [mat],
+                rigid=[0])
+    blk = np.unique(st.element_nodes[40:].ravel())
+    m = st.mass[blk].sum()
+    F = push(m)
+    st.external_force[blk, 0] = F * st.mass[blk] / m
+    run(st, until_time=0.3, contact=True)  # contact established
+    x0, v0, t0 = st.x[blk, 0].mean(), st.v[blk, 0].mean(), st.time
+    run(st, until_time=0.8, contact=True)
+    return (F, m, st.x[blk, 0].mean() - x0,
+            (st.v[blk, 0].mean() - v0) / (st.time - t0))
+
+
 @pytest.mark.parametrize("ratio", [0.5, 2.0])
 def test_d7_friction_block_on_plane(ratio):
     """D7: a block on a rigid plane pushed by F = ratio mu N: it sticks below mu N and slides
     with the Coulomb acceleration (F - mu N) / m above it."""
     mu = math.tan(math.radians(30.0))
-    mat = Material(name="block", E=1.0e5, nu=0.3, density=2.0,
-                   contact=Contact(damping=0.2, phi=30.0))
-    st = blocks([(20.0, 0.5, 40, 1, (0.0, 0.0), 0), (1.0, 1.0, 2, 2, (1.0, 0.5), 0)], [mat],
-                rigid=[0])
-    blk = np.unique(st.element_nodes[40:].ravel())
-    m = st.mass[blk].sum()
+    F, m, dx, a = _pushed_block(Contact(damping=0.2, phi=30.0),
+                                lambda m: ratio * mu * m * G_ACC)
     N = m * G_ACC
-    F = ratio * mu * N
-    st.external_force[blk, 0] = F * st.mass[blk] / m
-    run(st, until_time=0.3, contact=True)  # contact established
-    x0, v0, t0 = st.x[blk, 0].mean(), st.v[blk, 0].mean(), st.time
-    run(st, until_time=0.8, contact=True)
-    dx = st.x[blk, 0].mean() - x0
     if ratio < 1.0:
         # sticks: over 0.5 s it moves < 1 mm (frictionless it would move F/m t^2/2 = 0.35 m;
         # what remains is the elastic tangential spring)
         assert abs(dx) < 1e-3
     else:
-        a = (st.v[blk, 0].mean() - v0) / (st.time - t0)
         # bar 2 % (D7)
         assert abs(a / ((F - mu * N) / m) - 1.0) < 0.02
 
@@ -107,24 +115,13 @@ def test_d7_cohesive_crack_block_on_plane(ratio):
     (F - c B) / m above it (its weight plays no part: phi = 0). c B is a tenth of the block's
     weight, so the push (at mid-height) does not tilt the block off its contact length."""
     c, width = 2.0, 1.0
-    mat = Material(name="clay", E=1.0e5, nu=0.3, density=2.0,
-                   contact=Contact(damping=0.2, phi=0.0, cohesion=c))
-    st = blocks([(20.0, 0.5, 40, 1, (0.0, 0.0), 0), (width, 1.0, 2, 2, (1.0, 0.5), 0)], [mat],
-                rigid=[0])
-    blk = np.unique(st.element_nodes[40:].ravel())
-    m = st.mass[blk].sum()
-    F = ratio * c * width
-    st.external_force[blk, 0] = F * st.mass[blk] / m
-    run(st, until_time=0.3, contact=True)  # contact established
-    x0, v0, t0 = st.x[blk, 0].mean(), st.v[blk, 0].mean(), st.time
-    run(st, until_time=0.8, contact=True)
-    dx = st.x[blk, 0].mean() - x0
+    F, m, dx, a = _pushed_block(Contact(damping=0.2, phi=0.0, cohesion=c),
+                                lambda m: ratio * c * width)
     if ratio < 1.0:
         # sticks: over 0.5 s it moves < 1 mm (without cohesion it would move F/m t^2/2 =
         # 0.06 m; what remains is the elastic tangential spring)
         assert abs(dx) < 1e-3
     else:
-        a = (st.v[blk, 0].mean() - v0) / (st.time - t0)
         # bar 2 % (D7); the contact length is the block's width while it slides on the flat
         assert abs(a / ((F - c * width) / m) - 1.0) < 0.02
 

@@ -13,7 +13,8 @@ contact damping forces as applied (after the no-adhesion clamp) on the mid-step 
 (``contact.mid_step_work``: the kinetic energy of the central-difference update changes by
 exactly F(t) . v_mid dt), D_friction minus the work of the tangential contact forces on the
 mid-step velocity less the energy still stored in the tangential springs (in steady sliding
-it is (c L_c + mu N) x slip), and the residual holds plastic dissipation and time-integration error.
+it is (c L_c + mu N) x slip), and the residual holds plastic dissipation and time-integration
+error.
 D_normal_defect is minus the work of the elastic normal contact forces on the mid-step
 velocity less the stored k_n A^2 / (2 L_c): energy the overlap-area normal force absorbs
 (> 0) or gives (< 0) over a contact episode, because it is not exactly conservative (corner
