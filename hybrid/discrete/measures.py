@@ -340,12 +340,14 @@ class Deposit(NamedTuple):
     """Where a mass spread from a back wall came to rest (:func:`deposit`).
 
     Attributes:
-        runout: x [m] of the far end of the deposit, counted from the back wall.
+        runout: distance [m] of the far end of the deposit from the back wall
+            (``direction`` * (x - wall)).
         height: highest point [m] of the deposit above the floor.
         elements: (n,) indices of the elements in the deposit.
         detached: number of elements beyond the deposit's far end (not counted in it).
-        profile: (m, 2) surface [m] of the deposit: bin centres x - wall and the highest node
-            in each bin of width ``bin_width`` (0 where no node lies in the bin).
+        profile: (m, 2) surface [m] of the deposit: bin centres (distance from the wall, as
+            ``runout``) and the highest node in each bin of width ``bin_width`` (0 where no
+            node lies in the bin).
     """
 
     runout: float
@@ -356,7 +358,7 @@ class Deposit(NamedTuple):
 
 
 def deposit(state: DiscreteState, elements: np.ndarray, *, wall_x: float = 0.0,
-            floor_y: float = 0.0, bin_width: float) -> Deposit:
+            floor_y: float = 0.0, bin_width: float, direction: int = 1) -> Deposit:
     """The deposit of ``elements`` (an (n_elements,) mask) spread from a wall at ``wall_x``.
 
     The deposit is the run of elements whose x-extents overlap or touch without a gap, from
@@ -364,14 +366,17 @@ def deposit(state: DiscreteState, elements: np.ndarray, *, wall_x: float = 0.0,
     the wall until the first stretch of bare floor. An element flung beyond such a stretch is
     not part of it (``detached``), however far it went: the run-out is the far end of the
     continuous mass.
-    Distances count from the wall (x - ``wall_x``) and the floor (y - ``floor_y``) [m].
+    Distances count from the wall, ``direction`` * (x - ``wall_x``) (``direction`` 1: the mass
+    spread towards +x; -1: towards -x), and from the floor (y - ``floor_y``) [m].
     """
     idx = np.flatnonzero(np.asarray(elements, dtype=bool))
     if idx.size == 0:
         raise ValueError("deposit: no element in the mask (check the element set)")
     if not bin_width > 0.0:
         raise ValueError(f"deposit: bin_width = {bin_width!r} must be > 0 m")
-    xe = state.x[state.element_nodes[idx], 0] - wall_x
+    if direction not in (1, -1):
+        raise ValueError(f"deposit: direction = {direction!r} must be 1 (towards +x) or -1")
+    xe = direction * (state.x[state.element_nodes[idx], 0] - wall_x)
     lo, hi = xe.min(axis=1), xe.max(axis=1)
     order = np.argsort(lo, kind="stable")
     reach = float(lo[order[0]])  # the deposit starts at the element nearest the wall
@@ -381,7 +386,7 @@ def deposit(state: DiscreteState, elements: np.ndarray, *, wall_x: float = 0.0,
         reach = max(reach, float(hi[k]))
     inside = idx[lo <= reach]
     nodes = np.unique(state.element_nodes[inside])
-    x = state.x[nodes, 0] - wall_x
+    x = direction * (state.x[nodes, 0] - wall_x)
     y = state.x[nodes, 1] - floor_y
     n_bins = max(int(np.ceil(reach / bin_width)), 1)
     b = np.clip((x / bin_width).astype(np.int64), 0, n_bins - 1)

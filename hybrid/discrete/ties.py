@@ -10,13 +10,14 @@ tau = |t - sigma_N n| the interface fails
 - in shear if tau > c + max(-sigma_N, 0) tan(phi)  (compressive normal stress p = -sigma_N;
   strictly greater, so that an unloaded cohesionless interface, tau = 0 = c, stays intact),
 
-with the interface properties of the weaker of the two materials (the smaller of each of
-c, tan phi and the tensile strength). An interface also fails where the material beside it has
-softened to its residual strength (``hybrid.constitutive.softening``): when the Gauss points
-next to the edge on either side have all reached the residual slip, the softened band
-becomes a discontinuity, and the failed interface is from then on a contact that carries the
-residual strength, c_r + sigma_n tan(phi_r) while its sides press on each other (``Contact``
-defaults to the residual cohesion and angle).
+with the strength of the weaker of the two materials at that normal stress: the shear
+strength min(c_a + p tan phi_a, c_b + p tan phi_b) and the smaller tensile strength (as for
+a contact, ``hybrid.discrete.contact.law.point_law``). An interface also fails where the
+material beside it has softened to its residual strength (``hybrid.constitutive.softening``):
+when the Gauss points next to the edge on either side have all reached the residual slip,
+the softened band becomes a discontinuity, and the failed interface is from then on a
+contact that carries the residual strength, c_r + sigma_n tan(phi_r) while its sides press
+on each other (``Contact`` defaults to the residual cohesion and angle).
 Optionally (``split_plastic_strain``, an addition to the thesis) an interface also fails when
 the mean accumulated plastic strain of those Gauss points exceeds the limit: inside a
 perfectly plastic element the stress is capped on the yield surface, so the traction on a mesh
@@ -194,12 +195,13 @@ def _failure_kernel(x, element_nodes, element_material, stress, interface_elemen
         tau = math.sqrt((tx - sn * nx) ** 2 + (ty - sn * ny) ** 2)
         ma = element_material[ea]
         mb = element_material[eb]
-        c = min(interface_table[ma, 0], interface_table[mb, 0])
-        tphi = min(interface_table[ma, 1], interface_table[mb, 1])
+        p = max(-sn, 0.0)  # thesis 4.5, the weaker side's Mohr-Coulomb strength at p
+        strength = min(interface_table[ma, 0] + p * interface_table[ma, 1],
+                       interface_table[mb, 0] + p * interface_table[mb, 1])
         ft = min(interface_table[ma, 2], interface_table[mb, 2])
         if sn > ft:
             out[i] = FAIL_TENSION
-        elif tau > c + max(-sn, 0.0) * tphi:
+        elif tau > strength:
             out[i] = FAIL_SHEAR
         elif softened >= 1.0 - 1.0e-12:
             out[i] = FAIL_SOFTENED
