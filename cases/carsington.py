@@ -95,13 +95,15 @@ CREST_DEPTH = 0.1  # a crack at the crest has an end within this of the crest's 
 SECTION = ("yellow_clay_thickness", "yellow_clay_length", "boot_length", "lifts",
            "last_lift_parts")
 
+# the section and the strengths it is built with (Table 6.3, no factor on them)
+BUILT_AS_PUBLISHED = (*SECTION, *(f.name for f in fields(references.CarsingtonTable63)),
+                      "strength_factor")
 # the fields that make the modelled section the thesis's (published figures apply with them)
-PUBLISHED_PROBLEM = (*SECTION, *(f.name for f in fields(references.CarsingtonTable63)),
-                     "no_tension", "strength_factor", "softening", "discrete_softening")
+PUBLISHED_PROBLEM = (*BUILT_AS_PUBLISHED, "no_tension", "softening", "discrete_softening")
 # the fields that make the modelled dam the one that failed: the observed movements apply with
 # them, whichever analysis follows it (with or without softening, damping)
-OBSERVED_PROBLEM = (*SECTION, *(f.name for f in fields(references.CarsingtonTable63)),
-                    *(f.name for f in fields(references.CarsingtonTable62)), "strength_factor")
+OBSERVED_PROBLEM = (*BUILT_AS_PUBLISHED,
+                    *(f.name for f in fields(references.CarsingtonTable62)))
 # bar on the post-failure movements against the observed ones [-]: the observations are
 # approximate ("about 10 m" of crest drop, 11-13 m at the toe, read off the surveyed section),
 # so an analysis within 30 % of them reproduces the size of the slide, not its detail

@@ -154,8 +154,8 @@ def test_retaining_wall_collapse_runout_refined(h3_meshes):
 
 @pytest.mark.slow
 def test_retaining_wall_collapse_runout_unstructured(h3_meshes):
-    """H3's run-out on the unstructured 0.5 m quadrilaterals within 10 % of the structured
-    grid's (the bar of the refinement study)."""
+    """H3's run-out (the toe of the continuous deposit) on the unstructured 0.5 m
+    quadrilaterals within 10 % of the structured grid's (the bar of the refinement study)."""
     default, unstructured = h3_meshes["default"], h3_meshes["unstructured"]
     assert abs(unstructured["runout_m"] / default["runout_m"] - 1.0) <= 0.10
 
