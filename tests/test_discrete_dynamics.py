@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from hybrid.discrete import integrate, rectangle
+from hybrid.discrete import solver as discrete_solver
 from hybrid.discrete.elements import internal_forces
 from hybrid.discrete.outputs import Checkpoints
 from hybrid.discrete.solver import run
@@ -161,10 +162,11 @@ def _loaded_block(element="Q4"):
     return st
 
 
-def test_results_identical_with_one_and_two_threads():
+def test_results_identical_with_one_and_two_threads(monkeypatch):
     """Bit-for-bit the same state with 1 and 2 numba threads (loads, damping, splitting)."""
     if numba.config.NUMBA_NUM_THREADS < 2:
         pytest.skip("numba has fewer than 2 threads here")
+    monkeypatch.setattr(discrete_solver, "SERIAL_BELOW_ELEMENTS", 0)  # small: 2 threads too
     out = {}
     old = numba.get_num_threads()
     try:
@@ -181,12 +183,13 @@ def test_results_identical_with_one_and_two_threads():
         assert np.array_equal(getattr(out[1], name), getattr(out[2], name)), name
 
 
-def test_contact_run_identical_with_one_and_two_threads():
+def test_contact_run_identical_with_one_and_two_threads(monkeypatch):
     """Bit-for-bit with contact too (two blocks dropped on a rigid base, friction, damping)."""
     from hybrid.discrete.builders import blocks
 
     if numba.config.NUMBA_NUM_THREADS < 2:
         pytest.skip("numba has fewer than 2 threads here")
+    monkeypatch.setattr(discrete_solver, "SERIAL_BELOW_ELEMENTS", 0)  # small: 2 threads too
     mat = Material(name="block", E=1.0e5, nu=0.3, density=2.0,
                    contact=Contact(damping=0.1, phi=30.0))
     out = {}
@@ -219,3 +222,29 @@ def test_checkpoint_restart_bit_for_bit(tmp_path):
     for name in ("x", "v", "stress", "internal_force", "group_energy", "ledger", "node_group",
                  "interface_intact", "group_ptr"):
         assert np.array_equal(getattr(st, name), getattr(restarted, name)), name
+
+
+def test_small_runs_step_on_one_thread():
+    """A run of fewer than ``SERIAL_BELOW_ELEMENTS`` elements steps on one numba thread (its
+    parallel regions cost more than a second thread gains) and gives the caller's thread
+    count back afterwards, also when the run raises."""
+    if numba.config.NUMBA_NUM_THREADS < 2:
+        pytest.skip("numba has fewer than 2 threads here")
+    seen = []
+
+    def watch(st):
+        seen.append(numba.get_num_threads())
+        if len(seen) == 2:
+            raise KeyboardInterrupt
+
+    old = numba.get_num_threads()
+    try:
+        numba.set_num_threads(2)
+        st = _loaded_block()
+        assert st.n_elements < discrete_solver.SERIAL_BELOW_ELEMENTS
+        with pytest.raises(KeyboardInterrupt):
+            run(st, max_steps=400, mass_damping=2.0, contact=False, check_every=50,
+                on_check=watch)
+        assert seen == [1, 1] and numba.get_num_threads() == 2
+    finally:
+        numba.set_num_threads(old)

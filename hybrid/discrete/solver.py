@@ -34,6 +34,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+import numba
 import numpy as np
 
 from hybrid.constitutive.softening import warn_snap_back
@@ -70,6 +71,12 @@ __all__ = ["RunOptions", "ExplicitSolver", "Observer", "RunResult", "run",
            "has_contact_module"]
 
 log = logging.getLogger(__name__)
+
+#: Runs of fewer elements step on one numba thread: below about 1.5e3 elements a step is
+#: shorter than the cost of its parallel regions on a second thread (``hybrid bench``: at
+#: 1e3 elements 1 thread is 1.3-1.7x faster than 2, at 2.5e3 2 threads are 1.2-1.3x faster;
+#: docs/performance.md). Results are the same bit for bit on any number of threads.
+SERIAL_BELOW_ELEMENTS = 1500
 
 
 def has_contact_module() -> bool:
@@ -467,6 +474,9 @@ class ExplicitSolver:
         for obs in observers:
             obs.run_started(self, None if n_total is None else n_total - r.k)
         k0 = r.k
+        threads = numba.get_num_threads()
+        if st.n_elements < SERIAL_BELOW_ELEMENTS:
+            numba.set_num_threads(1)
         t0 = _time.perf_counter()
         try:
             while True:
@@ -507,6 +517,8 @@ class ExplicitSolver:
             for obs in observers:
                 obs.run_ended(self, None)
             raise
+        finally:
+            numba.set_num_threads(threads)
         wall = _time.perf_counter() - t0
         if not hist["step"] or hist["step"][-1] != st.step:
             led = EnergyLedger.measure(st)
