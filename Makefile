@@ -71,9 +71,11 @@ docs: setup
 	    --overwrite || [ $$? -eq 4 ] || exit 1
 	$(PY) -m hybrid run cases/carsington.py --out $(DOCS_RUN)/carsington_last_lift --set progress=false \
 	    --set last_lift_parts=10 --set safety=false --set discrete_time=0 --overwrite
-	# beyond the thesis: strain softening (u_r 0.5 m; 0.2 and 1 m; 0.5 m on 8 and 4 m elements)
+	# beyond the thesis: strain softening (u_r 0.5 m; 0.2 and 1 m; 0.5 m on 8, 5, 4 and 3 m
+	# elements)
 	for run in "softening 0.5 6" "softening_ur0.2 0.2 6" "softening_ur1 1.0 6" \
-	    "softening_size8 0.5 8" "softening_size4 0.5 4"; do set -- $$run; \
+	    "softening_size8 0.5 8" "softening_size5 0.5 5" "softening_size4 0.5 4" \
+	    "softening_size3 0.5 3"; do set -- $$run; \
 	    $(PY) -m hybrid run cases/carsington.py --out $(DOCS_RUN)/carsington_$$1 --overwrite \
 	    --set progress=false --set safety=false --set softening=true \
 	    --set softening_displacement=$$2 --set size=$$3 || [ $$? -eq 4 ] || exit 1; done
@@ -117,8 +119,8 @@ docs: setup
 	for c in h2_fine0.16 h2_fine0.12 h2_fine0.04 h2_structured; do \
 	    cp $(DOCS_RUN)/$$c/summary.json docs/summaries/$$c.json; done
 	for c in h2 h3 d10 carsington carsington_last_lift carsington_softening \
-	    carsington_softening_ur0.2 carsington_softening_ur1 carsington_softening_size4 \
-	    carsington_softening_size8 \
+	    carsington_softening_ur0.2 carsington_softening_ur1 carsington_softening_size3 \
+	    carsington_softening_size4 carsington_softening_size5 carsington_softening_size8 \
 	    carsington_damping0.5 carsington_damping3 carsington_discrete_softening \
 	    carsington_design_height carsington_design_height_softening; do \
 	    cp $(DOCS_RUN)/$$c/summary.json docs/summaries/$$c.json; done

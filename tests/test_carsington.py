@@ -261,16 +261,16 @@ def test_carsington_softening_coarse(case, tmp_path):
 
 @pytest.fixture(scope="module")
 def softening_meshes(tmp_path_factory):
-    """Beyond the thesis: the softening analysis on the default mesh (size 6) and a finer one
-    (size 4), run once for the tests below; each collapses in the same lift, comes to rest
-    with the slip surface through the yellow clay, the boot and the core, the upstream
-    shoulder moving upstream, energy bounded, elements and mass kept."""
+    """Beyond the thesis: the softening analysis on the two finest meshes of
+    docs/carsington.md (4 and 3 m elements), run once for the tests below; each collapses in
+    the same lift, comes to rest with the slip surface through the yellow clay, the boot and
+    the core, the upstream shoulder moving upstream, energy bounded, elements and mass kept."""
     from hybrid.case import load_case
 
     cars = load_case(CASES / "carsington.py")
     out = tmp_path_factory.mktemp("carsington_softening")
     runs = [cars.main(out=out / f"size{size:g}", size=size, softening=True, safety=False,
-                      frames=0, progress=False) for size in (6.0, 4.0)]
+                      frames=0, progress=False) for size in (4.0, 3.0)]
     assert runs[0]["construction"]["fill_level_m_od"] == runs[1]["construction"][
         "fill_level_m_od"]
     for r in runs:
@@ -287,15 +287,17 @@ def softening_meshes(tmp_path_factory):
 MESH_CHANGE = 0.15
 
 
-def _observed_on_two_meshes(softening_meshes, name: str, key: str) -> None:
-    """``name`` within the case's bar of the observed value on both meshes, and ``key`` within
-    MESH_CHANGE between them."""
-    cars, runs = softening_meshes
+def _converged(runs, key: str) -> None:
+    """``key`` of the discrete phase within MESH_CHANGE between the two meshes."""
+    coarse, fine = (r["discrete"][key] for r in runs)
+    assert fine == pytest.approx(coarse, rel=MESH_CHANGE), (key, coarse, fine)
+
+
+def _observed(cars, runs, name: str) -> None:
+    """``name`` within the case's bar of the observed value on both meshes."""
     for r in runs:
         check = r["checks"][name]
         assert check.bar == cars.OBSERVED_BAR and check.passed, (name, check)
-    coarse, fine = (r["discrete"][key] for r in runs)
-    assert fine == pytest.approx(coarse, rel=MESH_CHANGE), (key, coarse, fine)
 
 
 @pytest.mark.slow
@@ -303,15 +305,24 @@ def test_carsington_softening_crest_drop_two_meshes(softening_meshes):
     """The softening analysis's crest drop within 30 % of the observed 10 m (the case's bar:
     the observations are approximate, 30 % reproduces the slide's size, not its detail) on
     both meshes, and within 15 % between them."""
-    _observed_on_two_meshes(softening_meshes, "crest_drop", "crest_drop_m")
+    cars, runs = softening_meshes
+    _observed(cars, runs, "crest_drop")
+    _converged(runs, "crest_drop_m")
+
+
+@pytest.mark.slow
+def test_carsington_softening_toe_advance_two_meshes(softening_meshes):
+    """The softening analysis's upstream toe advance (the upstream end of the embankment's
+    continuous mass, at rest against the start) within 15 % between the two meshes: a
+    measure of the slide that the element size does not decide."""
+    _converged(softening_meshes[1], "toe_runout_m")
 
 
 @pytest.mark.slow
 @pytest.mark.xfail(strict=True, raises=AssertionError, reason=(
-    "not met: the upstream toe moves 12.4 m on the 6 m mesh but 6.1 m on the 4 m mesh (49 % "
-    "short of the observed 12 m): on the finer mesh the toe's bond to the foundation holds "
-    "longer and the shoulder bulges above it (docs/carsington.md)"))
-def test_carsington_softening_toe_two_meshes(softening_meshes):
-    """The softening analysis's upstream toe movement within 30 % of the observed 11-13 m on
-    both meshes, and within 15 % between them."""
-    _observed_on_two_meshes(softening_meshes, "upstream_toe_movement", "toe_runout_m")
+    "not met: the upstream toe advances 8.02 and 8.37 m on the 4 and 3 m meshes, 33 and 30 % "
+    "short of the observed 12 m (docs/carsington.md)"))
+def test_carsington_softening_toe_observed(softening_meshes):
+    """The softening analysis's upstream toe advance within 30 % of the observed 11-13 m on
+    both meshes."""
+    _observed(*softening_meshes, "upstream_toe_movement")

@@ -173,8 +173,10 @@ def test_results_identical_with_one_and_two_threads(monkeypatch):
         for n in (1, 2):
             numba.set_num_threads(n)
             st = _loaded_block()
+            used = set()
             run(st, max_steps=400, mass_damping=2.0, local_damping=0.1, split_every=10,
-                contact=False)
+                contact=False, on_check=lambda _, used=used: used.add(numba.get_num_threads()))
+            assert used == {n}
             out[n] = st
     finally:
         numba.set_num_threads(old)
@@ -201,7 +203,10 @@ def test_contact_run_identical_with_one_and_two_threads(monkeypatch):
                          (1.0, 1.0, 2, 2, (1.2, 1.7), 0)], [mat], rigid=[0])
             st.v[:, 0] = 0.5
             st.fix(st.element_nodes[:8].ravel())
-            run(st, max_steps=1500, mass_damping=0.5, contact=True)
+            used = set()
+            run(st, max_steps=1500, mass_damping=0.5, contact=True,
+                on_check=lambda _, used=used: used.add(numba.get_num_threads()))
+            assert used == {n}
             out[n] = st
     finally:
         numba.set_num_threads(old)

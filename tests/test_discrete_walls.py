@@ -12,7 +12,6 @@ import numpy as np
 import pytest
 from test_handover_snapshot import _snapshot
 
-from hybrid.discrete import solver as discrete_solver
 from hybrid.discrete.builders import blocks
 from hybrid.discrete.contact.walls import make_wall, wall_energy
 from hybrid.discrete.ledger import EnergyLedger
@@ -149,13 +148,12 @@ def test_the_handover_makes_walls_of_straight_roller_boundaries(tmp_path):
     assert np.array_equal(back.wall_nodes, disc.wall_nodes)
 
 
-def test_wall_bounce_identical_with_one_and_two_threads(monkeypatch):
+def test_wall_bounce_identical_with_one_and_two_threads():
     """Bit for bit the same state and ledger with 1 and 2 numba threads."""
     import numba
 
     if numba.config.NUMBA_NUM_THREADS < 2:
         pytest.skip("numba has fewer than 2 threads here")
-    monkeypatch.setattr(discrete_solver, "SERIAL_BELOW_ELEMENTS", 0)  # small: 2 threads too
     out = {}
     old = numba.get_num_threads()
     try:

@@ -305,10 +305,12 @@ class Animation(Observer):
         ax.set_aspect("equal")
         ax.set_xlabel("x [m]")
         ax.set_ylabel("y [m]")
-        title = ax.set_title("", animated=True)
-        fig.tight_layout()
+        time, step, phase, _ = series.frames[0]
+        title = ax.set_title(f"{phase}: t = {time:.4g} s (step {step})", animated=True)
+        fig.tight_layout()  # with a title in place, so that the layout leaves room for it
         fig.canvas.draw()
         background = fig.canvas.copy_from_bbox(fig.bbox)
+        gif = shutil.which("ffmpeg") is None
         written, pictures = [], []
         self.limits = []
         for i, (d, p) in enumerate(zip(data, polys, strict=True)):
@@ -323,10 +325,11 @@ class Animation(Observer):
             png = frames_dir / f"frame_{i:04d}.png"
             picture.save(png, compress_level=3)  # zlib level 3: 9 % larger, 40 % faster
             written.append(png)
-            pictures.append(picture)
+            if gif:  # a palette per frame by fast octree quantisation (median cut: 10x slower)
+                pictures.append(picture.convert("RGB").quantize(method=Image.Quantize.FASTOCTREE))
             self.limits.append((pc.get_clim(), ax.get_xlim(), ax.get_ylim()))
         plt.close(fig)
-        movie = _movie(out, frames_dir, pictures, fps=10)
+        movie = _movie(out, frames_dir, pictures if gif else None, fps=10)
         record = out / "animation.json"
         record.write_text(json.dumps({"movie": movie.name, "field": "sigma_yy", "frames": [
             {"time": f[0], "step": f[1], "phase": f[2], "colour_range": list(lim[0]),
@@ -335,25 +338,23 @@ class Animation(Observer):
         return [*written, movie, record]
 
 
-def _movie(out: Path, frames_dir: Path, pictures: Sequence[Any], fps: int) -> Path:
-    """The movie of the frames: ``discrete.mp4`` or ``discrete.gif``.
+def _movie(out: Path, frames_dir: Path, pictures: Sequence[Any] | None, fps: int) -> Path:
+    """The movie of the frames: ``discrete.gif`` or ``discrete.mp4``.
 
-    The MP4 is made from the PNG frames where ffmpeg is installed, the GIF from the same
-    pictures otherwise; the other kind, left by an older run, is removed.
+    The GIF from ``pictures`` (palette images); with None the MP4 from the PNG frames by
+    ffmpeg. The other kind, left by an older run, is removed.
     """
-    from PIL import Image
-
-    ffmpeg = shutil.which("ffmpeg")
-    movie = out / ("discrete.mp4" if ffmpeg else "discrete.gif")
-    (out / ("discrete.gif" if ffmpeg else "discrete.mp4")).unlink(missing_ok=True)
-    if ffmpeg:
-        subprocess.run([ffmpeg, "-y", "-loglevel", "error", "-framerate", str(fps),
-                        "-i", str(frames_dir / "frame_%04d.png"), "-pix_fmt", "yuv420p",
-                        "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2", str(movie)], check=True)
-    else:  # a palette per frame by fast octree quantisation (median cut: 10x slower)
-        first, *rest = (p.convert("RGB").quantize(method=Image.Quantize.FASTOCTREE)
-                        for p in pictures)
+    movie = out / ("discrete.gif" if pictures is not None else "discrete.mp4")
+    (out / ("discrete.mp4" if pictures is not None else "discrete.gif")).unlink(missing_ok=True)
+    if pictures is not None:
+        first, *rest = pictures
         first.save(movie, save_all=True, append_images=rest, duration=1000 // fps, loop=0)
+        return movie
+    pattern = str(frames_dir).replace("%", "%%") + "/frame_%04d.png"  # a % in --out is literal
+    subprocess.run([str(shutil.which("ffmpeg")), "-nostdin", "-y", "-loglevel", "error",
+                    "-framerate", str(fps), "-i", pattern, "-pix_fmt", "yuv420p",
+                    "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2", str(movie)],
+                   check=True, stdin=subprocess.DEVNULL)
     return movie
 
 

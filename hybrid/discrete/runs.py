@@ -169,7 +169,7 @@ def run_to_rest(state: DiscreteState, out: str | Path, options: RunOptions, *,
                 frames: int = 0, snapshot_times: Sequence[float] = (),
                 window: tuple[float, float, float, float] | None = None,
                 progress: bool = True, prefix: str = "discrete_",
-                check_every: int = 50) -> RestRun:
+                check_every: int = 50, material_names: Sequence[str] = ()) -> RestRun:
     """Run ``state`` (advanced in place) to rest, or to ``until_time``, with outputs.
 
     Writes in ``out``: ``{prefix}t0.png`` (the start: plastic strain, bonds intact),
@@ -191,6 +191,7 @@ def run_to_rest(state: DiscreteState, out: str | Path, options: RunOptions, *,
         progress: a progress bar.
         prefix: start of the figures' file names.
         check_every: steps between the run's checks (rest, snapshots, energy history).
+        material_names: the materials' names by index, written in the series' index.
     """
     out = Path(out)
     if frames and options.dt is None:
@@ -202,7 +203,8 @@ def run_to_rest(state: DiscreteState, out: str | Path, options: RunOptions, *,
                           title="t = {time:.3g} s: failed interfaces (red), plastic strain")
     every = frame_interval(until_time, options.dt, frames) if options.dt is not None else 0
     n_elements, mass = state.n_elements, float(state.mass.sum())
-    observers = standard_outputs(out / "discrete", progress=progress, output_every=every)
+    observers = standard_outputs(out / "discrete", progress=progress, output_every=every,
+                                 material_names=material_names)
     with ExplicitSolver(state, options, observers=observers) as solver:
         result = solver.run(until_time=until_time, until_rest=rest,
                             rest_min_steps=rest_min_steps, on_check=snapshots,

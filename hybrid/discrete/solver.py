@@ -72,10 +72,11 @@ __all__ = ["RunOptions", "ExplicitSolver", "Observer", "RunResult", "run",
 
 log = logging.getLogger(__name__)
 
-#: Runs of fewer elements step on one numba thread: below about 1.5e3 elements a step is
-#: shorter than the cost of its parallel regions on a second thread (``hybrid bench``: at
+#: Runs of fewer elements step on one numba thread: a small step is shorter than the cost of
+#: its parallel regions on a second thread (``hybrid bench``, tied and collapse problems: at
 #: 1e3 elements 1 thread is 1.3-1.7x faster than 2, at 2.5e3 2 threads are 1.2-1.3x faster;
-#: docs/performance.md). Results are the same bit for bit on any number of threads.
+#: the threshold lies between the two; docs/performance.md). Results are the same bit for bit
+#: on any number of threads.
 SERIAL_BELOW_ELEMENTS = 1500
 
 
