@@ -263,8 +263,9 @@ def test_carsington_softening_coarse(case, tmp_path):
 def softening_meshes(tmp_path_factory):
     """Beyond the thesis: the softening analysis on the two finest meshes of
     docs/carsington.md (4 and 3 m elements), run once for the tests below; each collapses in
-    the same lift, comes to rest with the slip surface through the yellow clay, the boot and
-    the core, the upstream shoulder moving upstream, energy bounded, elements and mass kept."""
+    the same lift, comes to rest with a crack from the crest, the slip surface through the
+    yellow clay, the boot and the core, the upstream shoulder moving upstream, energy
+    bounded, elements and mass kept."""
     from hybrid.case import load_case
 
     cars = load_case(CASES / "carsington.py")
@@ -275,9 +276,10 @@ def softening_meshes(tmp_path_factory):
         "fill_level_m_od"]
     for r in runs:
         assert r["discrete"]["stop"] == "rest"
-        for name in ("slip_surface_through_yellow_clay", "slip_surface_through_boot",
-                     "slip_surface_through_core", "shoulder_moves_upstream",
-                     "energy_excess_over_sources", "elements_conserved", "mass_conserved"):
+        for name in ("crack_at_crest", "slip_surface_through_yellow_clay",
+                     "slip_surface_through_boot", "slip_surface_through_core",
+                     "shoulder_moves_upstream", "energy_excess_over_sources",
+                     "elements_conserved", "mass_conserved"):
             assert r["checks"][name].passed, name
     return cars, runs
 
@@ -311,18 +313,19 @@ def test_carsington_softening_crest_drop_two_meshes(softening_meshes):
 
 
 @pytest.mark.slow
-def test_carsington_softening_toe_advance_two_meshes(softening_meshes):
+def test_carsington_softening_toe_observed(softening_meshes):
     """The softening analysis's upstream toe advance (the upstream end of the embankment's
-    continuous mass, at rest against the start) within 15 % between the two meshes: a
-    measure of the slide that the element size does not decide."""
-    _converged(softening_meshes[1], "toe_runout_m")
+    continuous mass, at rest against the start) within 30 % of the observed 11-13 m on both
+    meshes."""
+    _observed(*softening_meshes, "upstream_toe_movement")
 
 
 @pytest.mark.slow
 @pytest.mark.xfail(strict=True, raises=AssertionError, reason=(
-    "not met: the upstream toe advances 8.02 and 8.37 m on the 4 and 3 m meshes, 33 and 30 % "
-    "short of the observed 12 m (docs/carsington.md)"))
-def test_carsington_softening_toe_observed(softening_meshes):
-    """The softening analysis's upstream toe advance within 30 % of the observed 11-13 m on
-    both meshes."""
-    _observed(*softening_meshes, "upstream_toe_movement")
+    "not met: the upstream toe advances 11.50 m on the 4 m mesh and 13.73 m on the 3 m mesh "
+    "(19 % apart): the berm breaks into fragments of about the element size, which slide out "
+    "or pile up as they happen to (docs/carsington.md)"))
+def test_carsington_softening_toe_advance_two_meshes(softening_meshes):
+    """The softening analysis's upstream toe advance within 15 % between the two meshes: a
+    measure of the slide that the element size does not decide."""
+    _converged(softening_meshes[1], "toe_runout_m")

@@ -571,3 +571,16 @@ def test_a_four_column_table_is_a_cohesionless_one():
     f5, _ = run_pair(x, v, mass, en, mat, table, pairs, s5)
     np.testing.assert_array_equal(f4, f5)
     np.testing.assert_array_equal(s4, s5)
+
+
+def test_contact_step_works_equal_three_mid_step_works_bit_for_bit():
+    """The solver's one-pass ledger works (damping, tangential, all) are the three
+    ``mid_step_work`` sums to the last bit (same terms in the same order)."""
+    from hybrid.discrete.contact.energy import contact_step_works
+
+    rng = np.random.default_rng(7)
+    split, force = rng.normal(size=(2, 50, 2)), rng.normal(size=(50, 2))
+    v0, v1 = rng.normal(size=(50, 2)), rng.normal(size=(50, 2))
+    works = contact_step_works(split, force, v0, v1, 1.3e-4)
+    assert works == tuple(contact.mid_step_work(f, v0, v1, 1.3e-4)
+                          for f in (split[0], split[1], force))

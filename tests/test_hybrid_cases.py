@@ -205,22 +205,41 @@ def test_footing_failure_collapse_load_triangles(case, tmp_path):
     assert abs(q_tri / q_quad - 1.0) < 0.03
 
 
-@pytest.mark.slow
-@pytest.mark.xfail(strict=True, raises=AssertionError, reason=(
-    "both meshes reach rest, but the final settlement is 0.455 m on 0.04 m against 0.528 m "
-    "on 0.08 m (14 % less) and the heave 0.284 m against 0.244 m (16 % more)"))
-def test_footing_failure_discrete_measures_refined(case, tmp_path):
+@pytest.fixture(scope="module")
+def h2_refined(tmp_path_factory):
     """H2 to rest on the default mesh and its refinement (0.08 and 0.04 m at the footing
-    edge): final settlement and heave beside the footing within 10 % of each other. 10 %:
-    the discrete phase follows one dynamic punch through a band of failed bonds whose path
-    follows the mesh, a measure of the same mechanism, not a limit load (3 %)."""
-    fine = case("footing_failure").main(out=tmp_path / "fine", fine=0.04, output_every=0,
-                                        progress=False)
-    default = case("footing_failure").main(out=tmp_path / "default", output_every=0,
-                                           progress=False)
-    for s in (fine, default):
+    edge), run once for the two tests below; both reach rest within their bars."""
+    from hybrid.case import load_case
+
+    h2 = load_case(CASES / "footing_failure.py")
+    out = tmp_path_factory.mktemp("h2_refined")
+    runs = [h2.main(out=out / name, output_every=0, progress=False, **mesh)
+            for name, mesh in (("fine", {"fine": 0.04}), ("default", {}))]
+    for s in runs:
         assert_bars(s)
         assert s["discrete"]["stop"] == "rest"
-    for measure in ("final_settlement_m", "max_heave_beside_footing_m"):
-        a, b = fine["discrete"][measure], default["discrete"][measure]
-        assert abs(a / b - 1.0) < 0.10, (measure, a, b)
+    return runs
+
+
+def _discrete_change(runs, measure: str) -> None:
+    """``measure`` within 10 % between the refined and the default mesh. 10 %: the discrete
+    phase follows one dynamic punch through a band of failed bonds whose path follows the
+    mesh, a measure of the same mechanism, not a limit load (3 %)."""
+    a, b = (s["discrete"][measure] for s in runs)
+    assert abs(a / b - 1.0) < 0.10, (measure, a, b)
+
+
+@pytest.mark.slow
+def test_footing_failure_heave_refined(h2_refined):
+    """The largest heave beside the footing at rest on the default mesh and its refinement."""
+    _discrete_change(h2_refined, "max_heave_beside_footing_m")
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, raises=AssertionError, reason=(
+    "not met: the footing settles 0.617 m (since the handover) on 0.04 m against 0.525 m on "
+    "0.08 m: 0.50 m under load on both, then 0.12 against 0.02 m more after the load came off "
+    "(docs/hybrid.md)"))
+def test_footing_failure_settlement_refined(h2_refined):
+    """The final settlement at rest on the default mesh and its refinement."""
+    _discrete_change(h2_refined, "final_settlement_m")

@@ -60,6 +60,7 @@ def plot_configuration(path: str | Path, state: DiscreteState, *, title: str = "
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from matplotlib.collections import LineCollection, PolyCollection
+    from matplotlib.transforms import ScaledTranslation
 
     fields = {"plastic_strain": (state.plastic_strain.mean(axis=1), "plastic strain [-]",
                                  "magma_r"),
@@ -70,7 +71,8 @@ def plot_configuration(path: str | Path, state: DiscreteState, *, title: str = "
     xs = state.x_ref if reference else state.x
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig, ax = plt.subplots(figsize=(7.0, 5.0), dpi=dpi)
+    wide = window is not None and (window[2] - window[0]) > 2.5 * (window[3] - window[1])
+    fig, ax = plt.subplots(figsize=(10.0, 5.0) if wide else (7.0, 5.0), dpi=dpi)
     pc = PolyCollection(xs[state.element_nodes], array=values, cmap=cmap, edgecolors="0.5",
                         linewidths=0.15)
     ax.add_collection(pc)
@@ -86,7 +88,9 @@ def plot_configuration(path: str | Path, state: DiscreteState, *, title: str = "
         ax.add_collection(LineCollection(np.asarray(segs, float), colors=f"C{i}", linewidths=2.0,
                                          label=name))
     if len(seg) or lines or outline:
-        ax.legend(fontsize=8, loc="lower right")
+        below = ax.transAxes + ScaledTranslation(0.0, -0.5, fig.dpi_scale_trans)  # under x label
+        ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, 0.0),
+                  bbox_transform=below, ncol=2)
     ax.autoscale()
     if window is not None:
         xmin, ymin, xmax, ymax = check_box(window)

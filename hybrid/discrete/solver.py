@@ -240,9 +240,11 @@ class ExplicitSolver:
             except ImportError as err:
                 raise ValueError("contact=True but hybrid.discrete.contact is not available"
                                  ) from err
+            from hybrid.discrete.contact.energy import contact_step_works
             from hybrid.discrete.contact.walls import WallBuffers, add_wall_forces
 
             self._cmod = cmod
+            self._contact_step_works = contact_step_works
             self._add_contact_forces = add_contact_forces
             self._add_wall_forces = add_wall_forces
             self._wbuf = WallBuffers()
@@ -349,10 +351,8 @@ class ExplicitSolver:
         if n_pairs:
             # minus the work of the tangential / damping / elastic normal forces on the
             # mid-step velocity
-            cmod = self._cmod
-            w_t = cmod.mid_step_work(self._split[1], self._v_start, st.v, dt)
-            w_d = cmod.mid_step_work(self._split[0], self._v_start, st.v, dt)
-            w_all = cmod.mid_step_work(self._cforce, self._v_start, st.v, dt)
+            w_d, w_t, w_all = self._contact_step_works(self._split, self._cforce,
+                                                       self._v_start, st.v, dt)
             st.ledger[LEDGER_FRICTION] -= w_t
             st.ledger[LEDGER_CONTACT_DAMPING] -= w_d
             st.ledger[LEDGER_CONTACT_NORMAL] -= w_all - w_t - w_d
