@@ -262,6 +262,16 @@ def test_case_parameters_are_validated(case, name, overrides, message):
         case(name).Parameters(**overrides)
 
 
+def test_footing_freeze_layers_without_a_region_is_refused(case, tmp_path):
+    """H2's ``freeze_layers`` holds the cells beyond a region of ``region_layers``: alone (every
+    bond free to fail) it would hold nothing, so it is refused before anything runs."""
+    from hybrid.parameters import ParameterError
+
+    with pytest.raises(ParameterError, match="freeze_layers needs region_layers"):
+        case("footing_failure").main(out=tmp_path, freeze_layers=2, progress=False)
+    assert not any(tmp_path.iterdir())
+
+
 def test_case_parameters_pick(case):
     """The named fields' values by name, in the order asked (what a mesh builder takes)."""
     p = case("carsington").Parameters(boot_length=30.0)

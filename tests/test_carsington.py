@@ -5,7 +5,7 @@ import json
 import meshio
 import numpy as np
 import pytest
-from conftest import CASES, assert_bars
+from conftest import CASES, BarNotMet, assert_bars, assert_within
 
 from hybrid import references
 from hybrid.continuum.staging import lift_groups, split_into_lifts
@@ -276,6 +276,7 @@ def softening_meshes(tmp_path_factory):
         "fill_level_m_od"]
     for r in runs:
         assert r["discrete"]["stop"] == "rest"
+        assert r["discrete"]["toe_detached_elements"] == 0  # the toe: the whole mass's front
         for name in ("crack_at_crest", "slip_surface_through_yellow_clay",
                      "slip_surface_through_boot", "slip_surface_through_core",
                      "shoulder_moves_upstream", "energy_excess_over_sources",
@@ -292,14 +293,15 @@ MESH_CHANGE = 0.15
 def _converged(runs, key: str) -> None:
     """``key`` of the discrete phase within MESH_CHANGE between the two meshes."""
     coarse, fine = (r["discrete"][key] for r in runs)
-    assert fine == pytest.approx(coarse, rel=MESH_CHANGE), (key, coarse, fine)
+    assert_within(fine, coarse, MESH_CHANGE, f"{key} on the finer mesh against the coarser")
 
 
 def _observed(cars, runs, name: str) -> None:
     """``name`` within the case's bar of the observed value on both meshes."""
     for r in runs:
         check = r["checks"][name]
-        assert check.bar == cars.OBSERVED_BAR and check.passed, (name, check)
+        assert check.bar == cars.OBSERVED_BAR and check.reference is not None
+        assert_within(check.computed, check.reference, check.bar, f"{name} against observed")
 
 
 @pytest.mark.slow
@@ -313,19 +315,14 @@ def test_carsington_softening_crest_drop_two_meshes(softening_meshes):
 
 
 @pytest.mark.slow
-def test_carsington_softening_toe_observed(softening_meshes):
+@pytest.mark.xfail(strict=True, raises=BarNotMet, reason=(
+    "not met: the upstream toe advances 11.50 m on the 4 m mesh and 13.73 m on the 3 m mesh, "
+    "both within 30 % of the observed 12 m but 19 % apart, beyond the 15 % mesh bar "
+    "(docs/carsington.md)"))
+def test_carsington_softening_toe_two_meshes(softening_meshes):
     """The softening analysis's upstream toe advance (the upstream end of the embankment's
     continuous mass, at rest against the start) within 30 % of the observed 11-13 m on both
-    meshes."""
-    _observed(*softening_meshes, "upstream_toe_movement")
-
-
-@pytest.mark.slow
-@pytest.mark.xfail(strict=True, raises=AssertionError, reason=(
-    "not met: the upstream toe advances 11.50 m on the 4 m mesh and 13.73 m on the 3 m mesh "
-    "(19 % apart): the berm breaks into fragments of about the element size, which slide out "
-    "or pile up as they happen to (docs/carsington.md)"))
-def test_carsington_softening_toe_advance_two_meshes(softening_meshes):
-    """The softening analysis's upstream toe advance within 15 % between the two meshes: a
-    measure of the slide that the element size does not decide."""
-    _converged(softening_meshes[1], "toe_runout_m")
+    meshes, and within 15 % between them: a comparison the element size does not decide."""
+    cars, runs = softening_meshes
+    _observed(cars, runs, "upstream_toe_movement")
+    _converged(runs, "toe_runout_m")

@@ -240,15 +240,17 @@ def test_large_png_is_reencoded_under_the_cap(tmp_path):
 @pytest.mark.slow
 def test_verify_whole_registry(tmp_path):
     """Every registered case (fast overrides) runs, and meets its bars or is reported, but
-    for the 15 % bar of the granular collapse against the aluminium rods, which the R-series
-    reports as missed (its section says why)."""
+    for the granular collapse's 15 % bar against the aluminium rods and its 10 % bar on the
+    run-out's change with the grain size, which the R-series reports as missed (its section
+    and docs/hybrid.md say why: the run-out is not converged in the grain size)."""
     results = verification.run_cases(None, tmp_path / "runs")
     errors = [(r["id"], r["message"]) for r in results if r["status"] == "error"]
     assert not errors
     missed = [(r["id"], row["name"]) for r in results for row in r["rows"]
               if row["passed"] is False]
     assert all(key.startswith("R1-") and name in ("runout_vs_rods2015",
-                                                  "final_height_vs_rods2015")
+                                                  "final_height_vs_rods2015",
+                                                  "runout_change_on_halving_mesh")
                for key, name in missed), missed
     assert verification.exit_code(results) == int(bool(missed))
     md = report.write_report(results, tmp_path / "report").read_text()
