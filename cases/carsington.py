@@ -304,8 +304,7 @@ def main(out: str | Path = "results/carsington", **overrides) -> CaseSummary:
     start = time.perf_counter()
     after = (materials(replace(p, softening=True))
              if p.discrete_softening and not p.softening else None)
-    region = (Region(everywhere=True) if p.region_layers is None
-              else Region(layers=p.region_layers))
+    region = Region(everywhere=p.region_layers is None, layers=p.region_layers or 0)
     hand = (from_construction(solver, built, region=region, materials=after)
             if p.discrete_time > 0.0 else None)
     if hand is None or hand.discrete is None:  # continuum only, or MPI ranks other than 0

@@ -170,8 +170,7 @@ def main(out: str | Path = "results/footing_failure", **overrides) -> CaseSummar
     estimates = strip_footing_estimates(p.cohesion, p.phi, p.unit_weight, p.footing_width)
 
     # 2. handover
-    region = (Region(everywhere=True) if p.region_layers is None
-              else Region(layers=p.region_layers))
+    region = Region(everywhere=p.region_layers is None, layers=p.region_layers or 0)
     hand = to_discrete(state, region=region, freeze_layers=p.freeze_layers)
     summary = CaseSummary("footing_failure (H2)", out, p, results={
         "continuum": {"cells": state.info["cells"], "steps": state.info["steps"],

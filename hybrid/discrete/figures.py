@@ -71,7 +71,8 @@ def plot_configuration(path: str | Path, state: DiscreteState, *, title: str = "
     xs = state.x_ref if reference else state.x
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    wide = window is not None and (window[2] - window[0]) > 2.5 * (window[3] - window[1])
+    box = check_box(window) if window is not None else None  # checked before it is read
+    wide = box is not None and (box[2] - box[0]) > 2.5 * (box[3] - box[1])
     fig, ax = plt.subplots(figsize=(10.0, 5.0) if wide else (7.0, 5.0), dpi=dpi)
     pc = PolyCollection(xs[state.element_nodes], array=values, cmap=cmap, edgecolors="0.5",
                         linewidths=0.15)
@@ -92,8 +93,8 @@ def plot_configuration(path: str | Path, state: DiscreteState, *, title: str = "
         ax.legend(fontsize=8, loc="upper center", bbox_to_anchor=(0.5, 0.0),
                   bbox_transform=below, ncol=2)
     ax.autoscale()
-    if window is not None:
-        xmin, ymin, xmax, ymax = check_box(window)
+    if box is not None:
+        xmin, ymin, xmax, ymax = box
         ax.set_xlim(xmin, xmax)
         ax.set_ylim(ymin, ymax)
     ax.set_aspect("equal")

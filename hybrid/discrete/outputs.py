@@ -268,9 +268,9 @@ class Animation(Observer):
     def render(self, state: DiscreteState) -> list[Path]:
         """Write the PNG frames and the animation; returns their paths.
 
-        The axes, ticks and colour bar are drawn once; each frame redraws only the elements
-        and the title over them (blitting) and is written from the canvas buffer: the PNG
-        frame, then the movie from the same pixels.
+        The axes, ticks and colour bar are drawn once; each frame redraws only the elements,
+        the axes' frame and the title over them (blitting) and is written from the canvas
+        buffer: the PNG frame, then the movie from the same pixels.
         """
         import matplotlib
 
@@ -305,8 +305,11 @@ class Animation(Observer):
         ax.set_aspect("equal")
         ax.set_xlabel("x [m]")
         ax.set_ylabel("y [m]")
-        time, step, phase, _ = series.frames[0]
-        title = ax.set_title(f"{phase}: t = {time:.4g} s (step {step})", animated=True)
+        def caption(i: int) -> str:
+            time, step, phase, _ = series.frames[i]
+            return f"{phase}: t = {time:.4g} s (step {step})"
+
+        title = ax.set_title(caption(0), animated=True)
         fig.tight_layout()  # with a title in place, so that the layout leaves room for it
         fig.canvas.draw()
         background = fig.canvas.copy_from_bbox(fig.bbox)
@@ -314,10 +317,9 @@ class Animation(Observer):
         written, pictures = [], []
         self.limits = []
         for i, (d, p) in enumerate(zip(data, polys, strict=True)):
-            time, step, phase, _ = series.frames[i]
             pc.set_verts(p)
             pc.set_array(d["sigma_yy"])
-            title.set_text(f"{phase}: t = {time:.4g} s (step {step})")
+            title.set_text(caption(i))
             fig.canvas.restore_region(background)
             for artist in (pc, *ax.spines.values(), title):
                 ax.draw_artist(artist)

@@ -5,7 +5,7 @@ contact refresh (``contact.find_contact_pairs`` every ``contact_refresh`` steps 
 splitting check), contact forces (``contact.forces.add_contact_forces``, and
 ``contact.walls`` for the smooth walls of the roller supports), the explicit update
 (``integrate.step``: tie groups, central differences, element stresses and internal forces),
-the contact terms of the energy ledger (``contact.mid_step_work``, see
+the contact terms of the energy ledger (``contact.energy.contact_step_works``, see
 ``hybrid.discrete.ledger``) and, every ``split_every`` steps, interface failure and splitting
 (``ties``). :meth:`ExplicitSolver.run` only loops and checks: every ``check_every`` steps it
 measures the ledger, stops an unstable run, records the history, detects rest and calls the
