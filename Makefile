@@ -95,16 +95,19 @@ docs: setup
 	    --set safety=false --set mass_damping=$$md || [ $$? -eq 4 ] || exit 1; done
 	# H2's mesh sensitivity (docs/hybrid.md): every mesh followed to rest; a discrete run that
 	# stops unstable (exit 3) is reported as such (docs/summaries/h2_*.unstable.txt, its
-	# message) beside the mesh's continuum summary
+	# message) beside the mesh's continuum summary; the displacement-controlled punch on the
+	# default mesh and its refinement
 	for run in "fine0.16 --set fine=0.16" "fine0.12 --set fine=0.12" "fine0.04 --set fine=0.04" \
-	    "structured --set structured=true"; do set -- $$run; rm -f docs/summaries/h2_$$1.unstable.txt; \
-	    $(PY) -m hybrid run cases/footing_failure.py --out $(DOCS_RUN)/h2_$$1 --overwrite \
-	    --set progress=false $$2 $$3 2> $(DOCS_RUN)/h2_$$1.stderr; rc=$$?; \
-	    cat $(DOCS_RUN)/h2_$$1.stderr >&2; \
+	    "structured --set structured=true" "punch --set control=punch" \
+	    "punch_fine0.04 --set control=punch --set fine=0.04"; do set -- $$run; name=$$1; shift; \
+	    rm -f docs/summaries/h2_$$name.unstable.txt; \
+	    $(PY) -m hybrid run cases/footing_failure.py --out $(DOCS_RUN)/h2_$$name --overwrite \
+	    --set progress=false "$$@" 2> $(DOCS_RUN)/h2_$$name.stderr; rc=$$?; \
+	    cat $(DOCS_RUN)/h2_$$name.stderr >&2; \
 	    if [ $$rc -eq 3 ]; then mkdir -p docs/summaries; \
-	    grep "unstable" $(DOCS_RUN)/h2_$$1.stderr > docs/summaries/h2_$$1.unstable.txt; \
-	    $(PY) -m hybrid run cases/footing_failure.py --out $(DOCS_RUN)/h2_$$1 --overwrite \
-	    --set progress=false --set discrete=false $$2 $$3 || exit 1; \
+	    grep "unstable" $(DOCS_RUN)/h2_$$name.stderr > docs/summaries/h2_$$name.unstable.txt; \
+	    $(PY) -m hybrid run cases/footing_failure.py --out $(DOCS_RUN)/h2_$$name --overwrite \
+	    --set progress=false --set discrete=false "$$@" || exit 1; \
 	    elif [ $$rc -ne 0 ] && [ $$rc -ne 4 ]; then exit 1; fi; done
 	# H3's mesh sensitivity (docs/hybrid.md): the structured mesh coarser and finer, gmsh's
 	# unstructured quadrilaterals at the default size
@@ -116,7 +119,7 @@ docs: setup
 	mkdir -p docs/summaries docs/figures/hybrid docs/figures/carsington
 	for c in h3_size1.0 h3_size0.25 h3_unstructured; do \
 	    cp $(DOCS_RUN)/$$c/summary.json docs/summaries/$$c.json; done
-	for c in h2_fine0.16 h2_fine0.12 h2_fine0.04 h2_structured; do \
+	for c in h2_fine0.16 h2_fine0.12 h2_fine0.04 h2_structured h2_punch h2_punch_fine0.04; do \
 	    cp $(DOCS_RUN)/$$c/summary.json docs/summaries/$$c.json; done
 	for c in h2 h3 d10 carsington carsington_last_lift carsington_softening \
 	    carsington_softening_ur0.2 carsington_softening_ur1 carsington_softening_size3 \

@@ -29,7 +29,14 @@ Set-up
        ``target_settlement`` (0.5 m), removed over ``ramp_time``, then run to rest. Bonds fail
        by the strength criteria and where the soil beside them has softened to residual; a
        failed bond carries the residual strength (c_r + sigma_n tan phi_r, ``Contact``).
-       The rigid platen is the real footing.
+       The rigid platen is the real footing. ``control=punch`` drives it by displacement
+       instead, as a load test on a rigid footing (``hybrid.discrete.runs.PunchProgram``):
+       pushed down at ``punch_speed`` (1 m/s: rho v^2 = 2 kPa against bearing pressures of
+       the order of 1 000 kPa) to ``target_settlement``, the bearing pressure measured from
+       the work of the push, then the pressure it carried removed over ``ramp_time``; the
+       summary adds the mean bearing pressure over the push and over its last fifth.
+       An option, not verified: after unloading the broken soil beside the footing edge
+       has not come to rest within the step limit on the default mesh.
        No mass damping (``mass_damping`` = 0, as Carsington): it would drag every element as
        through a viscous fluid, and it does not decide the result: the energy of the punch
        goes into plastic work, friction and contact damping, and rest is judged by the
@@ -65,7 +72,7 @@ from hybrid.discrete.energy import energy_excess, energy_peak_ratio, phase_histo
 from hybrid.discrete.figures import plot_configuration
 from hybrid.discrete.measures import FootingMarks
 from hybrid.discrete.outputs import standard_outputs
-from hybrid.discrete.runs import LoadProgram
+from hybrid.discrete.runs import LoadProgram, PunchProgram
 from hybrid.discrete.solver import ExplicitSolver, RunOptions
 from hybrid.figures import engineering_figures
 from hybrid.geometry import build_mesh, load_builder
@@ -100,7 +107,9 @@ class Parameters(CaseParameters):
     fine: float = param(0.08, gt=0)  # element size at the footing edge [m]
     coarse: float = param(0.4, gt=0)  # element size far away [m]
     continuum_steps: int = param(24, ge=1)  # pressure increments up to ``pressure``
-    pressure: float = param(1800.0, gt=0)  # footing pressure in the discrete phase [kPa]
+    control: str = param("pressure", choices=("pressure", "punch"))  # discrete loading (header)
+    punch_speed: float = param(1.0, gt=0)  # speed of the pushed footing (control=punch) [m/s]
+    pressure: float = param(1800.0, gt=0)  # footing pressure (control=pressure) [kPa]
     target_settlement: float = param(0.5, gt=0)  # settlement at which the footing is unloaded [m]
     ramp_time: float = param(0.05, gt=0)  # loading / unloading ramp [s]
     max_time: float = param(3.0, gt=0)  # give up the loaded phase after this time [s]
@@ -210,10 +219,18 @@ def main(out: str | Path = "results/footing_failure", **overrides) -> CaseSummar
     marks = FootingMarks.pick(disc, footing_nodes, hand.boundary_nodes["surface"], beside=b,
                               offset=curve[-1][0])
     q0 = q_handover
-    program = LoadProgram(apply=lambda q: hand.set_load_factor(q / q0),
-                          measure=lambda: marks.settlement(disc), start=q0, peak=p.pressure,
-                          target=p.target_settlement, ramp_time=p.ramp_time,
-                          max_time=p.max_time, t_start=disc.time)
+    program: PunchProgram | LoadProgram
+    if p.control == "punch":  # displacement control, the bearing pressure measured
+        program = PunchProgram(footing_nodes, apply=lambda q: hand.set_load_factor(q / q0),
+                               measure=lambda: marks.settlement(disc), width=b,
+                               speed=p.punch_speed, target=p.target_settlement,
+                               ramp_time=p.ramp_time, max_time=p.max_time, t_start=disc.time)
+        program.start(disc)
+    else:  # load control: the pressure applied
+        program = LoadProgram(apply=lambda q: hand.set_load_factor(q / q0),
+                              measure=lambda: marks.settlement(disc), start=q0,
+                              peak=p.pressure, target=p.target_settlement,
+                              ramp_time=p.ramp_time, max_time=p.max_time, t_start=disc.time)
     t_start = disc.time
 
     mass0, n0 = float(disc.mass.sum()), disc.n_elements
@@ -238,6 +255,7 @@ def main(out: str | Path = "results/footing_failure", **overrides) -> CaseSummar
         "time_to_rest_s": settled.time - t_start,
         "unloaded_at_s": program.t_unload,
         "settlement_at_unloading_m": program.at_unloading,
+        "control": p.control,
         "final_settlement_m": settlement,
         "final_total_settlement_m": marks.total_settlement(disc),
         "max_heave_beside_footing_m": marks.heave(disc),
@@ -249,6 +267,14 @@ def main(out: str | Path = "results/footing_failure", **overrides) -> CaseSummar
         "element_steps_per_s": steps * disc.n_elements / max(wall, 1e-9),
         "outputs": [str(f) for f in solver.files if f.suffix != ".png"],
     }
+    if isinstance(program, PunchProgram):  # the bearing pressure the push took (None: the
+        s_end = float(program.at_unloading or 0.0)  # push gave up before it settled at all)
+        pushed = program.pressure_at_unloading is not None and s_end > 0.0
+        summary["discrete"].update({
+            "pressure_at_unloading_kpa": program.pressure_at_unloading,
+            "mean_bearing_pressure_kpa": program.mean_pressure(0.0, s_end) if pushed else None,
+            "bearing_pressure_last_fifth_kpa": (program.mean_pressure(0.8 * s_end, s_end)
+                                                if pushed else None)})
     checks = summary["checks"]
     checks["reached_target_settlement"] = Check(
         float(program.at_unloading or settlement), p.target_settlement, None, "m",
@@ -264,7 +290,8 @@ def main(out: str | Path = "results/footing_failure", **overrides) -> CaseSummar
     # the classical limit loads are drawn only for a soil they apply to (no softening)
     plot_load_settlement(out / "load_settlement.png", sc, qc,
                          {} if soil.softens else estimates, label="continuum",
-                         more={"discrete (applied pressure)": (marks.offset + sd, qd)},
+                         more={("discrete (bearing pressure, measured)" if p.control == "punch"
+                                else "discrete (applied pressure)"): (marks.offset + sd, qd)},
                          title="H2: footing load-settlement (settlement from the start)")
     # the whole discrete phase, loading and rest, as one ledger history
     when = ({"unloading starts": t_start + program.t_unload} if program.t_unload else {})

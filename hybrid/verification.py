@@ -291,11 +291,11 @@ SERIES: dict[str, tuple[str, str]] = {
           "15 % against the aluminium-rod laws of arXiv:1512.05180; Lube et al.'s (2005) sand "
           "laws, known only as quoted by others, are reported beside them. In the full run the "
           "bar is met for the final height at every aspect ratio and missed for the run-out "
-          "at a = 1 and 2, which overshoots the rods by about a fifth (the rods give no "
-          "run-out law at a = 0.5). The run-out moves by more than the bar with the contact "
-          "angle's calibration spread (about 2 deg between packings) and grows as the grains "
-          "get finer (not converged), so it is compared at grains of L0 / 20. The reduced run "
-          "(`hybrid verify` without `--full`) uses coarser grains."),
+          "at a = 1 and 2, which runs beyond the rods' law (the table gives by how much; the "
+          "rods give no run-out law at a = 0.5). The run-out moves by more than the bar with "
+          "the contact angle's calibration spread (about 2 deg between packings) and grows as "
+          "the grains get finer (not converged), so it is compared at grains of L0 / 20. The "
+          "reduced run (`hybrid verify` without `--full`) uses coarser grains."),
 }
 
 CASES: dict[str, VerificationCase] = {c.id: c for c in (

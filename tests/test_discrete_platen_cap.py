@@ -127,3 +127,68 @@ def test_frozen_elements_do_not_limit_the_time_step():
     assert free == pytest.approx(both * 100.0, rel=1e-12)  # c_p ratio sqrt(1e7 / 1e3)
     st.fix(st.element_nodes[0])
     assert integrate.stable_time_step(st, contact=False) == pytest.approx(both, rel=1e-12)
+
+
+def _punched_block(speed, target, *, other_moving=False):
+    """An elastic block (E = 10 MPa, nu = 0.3, no gravity) on a smooth base, its top a smooth
+    rigid platen pushed down by a :class:`PunchProgram` to ``target``, then unloaded."""
+    from hybrid.discrete.runs import PunchProgram
+
+    mat = Material(name="block", E=1.0e4, nu=0.3, density=2.0)
+    st = rectangle(1.0, 1.0, 4, 4, material=mat, gravity=(0.0, 0.0))
+    base = np.isclose(st.x_ref[:, 1], 0.0)
+    st.fix(base, x=False, y=True)
+    st.fix(np.flatnonzero(base & np.isclose(st.x_ref[:, 0], 0.0)), x=True, y=False,
+           velocity=(0.1 if other_moving else 0.0, 0.0))
+    top = np.flatnonzero(np.isclose(st.x_ref[:, 1], 1.0))  # a smooth platen: y held only
+    applied = []
+    program = PunchProgram(top, apply=applied.append,
+                           measure=lambda: -float(np.mean(st.x[top, 1] - st.x_ref[top, 1])),
+                           width=1.0, speed=speed, target=target, ramp_time=0.05,
+                           max_time=10.0, t_start=0.0, window=0.2 * target)
+    return st, program, applied
+
+
+def test_punch_program_measures_the_elastic_bearing_pressure():
+    """A slow push of an elastic block on a smooth base is a plane-strain uniaxial test: the
+    platen's pressure is E / (1 - nu^2) * s / H (Timoshenko & Goodier, plane strain with the
+    sides free). Pushed at 2 mm/s (inertia rho v^2 ~ 1e-5 kPa against about 2 kPa), the mean
+    pressure over the push is half the final one, measured from the supports' work within 1 %
+    (the explicit push rings a little about the static response). The program then asks for
+    that pressure and lowers it to 0 (recorded here, not put on the block: the platen is let
+    go) and the block springs back elastic."""
+    from hybrid.discrete.solver import ExplicitSolver, RunOptions
+
+    target, h = 2.0e-4, 1.0
+    st, program, applied = _punched_block(2.0e-3, target)
+    program.start(st)
+    assert applied == [0.0] and st.fixed[program.nodes, 1].all()
+    modulus = 1.0e4 / (1.0 - 0.3 ** 2)  # [kPa]
+    with ExplicitSolver(st, RunOptions(contact=False, mass_damping=2.0)) as solver:
+        solver.run(until_time=1.0, on_check=program, check_every=2)
+        assert program.removed and applied[-1] == 0.0
+        s_end = program.at_unloading
+        assert s_end == pytest.approx(target, rel=0.02)
+        # the pressure let go: the mean over the last window (a fifth of the push, or a little
+        # more: it ends at a check), so the pressure at its middle, 0.1 target back or more
+        expected_end = modulus * (s_end - 0.1 * target) / h
+        assert program.pressure_at_unloading == pytest.approx(expected_end, rel=0.02)
+        assert program.mean_pressure(0.0, s_end) == pytest.approx(
+            0.5 * modulus * s_end / h, rel=0.01)
+        assert applied[1] == program.pressure_at_unloading  # let go under what it carried
+        solver.run(until_rest=1e-4, max_steps=200_000)
+    assert abs(program.measure()) < 0.01 * target  # elastic: back where it started
+
+
+def test_punch_program_refuses_other_moving_supports():
+    """The supports' work is the platen's only if no other support moves."""
+    st, program, _ = _punched_block(1.0e-3, 1.0e-4, other_moving=True)
+    with pytest.raises(ValueError, match="other supports move"):
+        program.start(st)
+    from hybrid.discrete.runs import PunchProgram
+    with pytest.raises(ValueError, match="window"):
+        PunchProgram(program.nodes, apply=print, measure=float, width=1.0, speed=1.0,
+                     target=0.1, ramp_time=0.1, max_time=1.0, t_start=0.0, window=0.2)
+    with pytest.raises(ValueError, match="speed"):
+        PunchProgram(program.nodes, apply=print, measure=float, width=1.0, speed=0.0,
+                     target=0.1, ramp_time=0.1, max_time=1.0, t_start=0.0)

@@ -320,6 +320,25 @@ QUOTES: list[Quote] = [
      "more on the default mesh, {} m more on the refined one",
      lambda: [d["final_settlement_m"] - d["settlement_at_unloading_m"] for d in (
          h2()["discrete"], _json("docs/summaries/h2_fine0.04.json")["discrete"])]),
+    # H2's displacement-controlled punch on the default mesh and its refinement
+    ("docs/hybrid.md", "mean bearing pressure over the push {} and {} kPa ({} % apart), over "
+     "its last fifth {} and {} kPa ({} %); settlement since the handover {} and {} m ({} %); "
+     "heave {} and {} m ({} %), on the default mesh when its run stopped.",
+     lambda: [v for key in ("mean_bearing_pressure_kpa", "bearing_pressure_last_fifth_kpa",
+                            "final_settlement_m", "max_heave_beside_footing_m")
+              for v in _pair(key)]),
+    ("docs/hybrid.md", "Let go at {} and {} m, the footing rose by {} and {} m as the load came "
+     "off",
+     lambda: [_punch(n)["discrete"]["settlement_at_unloading_m"]
+              for n in ("h2_punch", "h2_punch_fine0.04")]
+     + [_punch(n)["discrete"]["settlement_at_unloading_m"]
+        - _punch(n)["discrete"]["final_settlement_m"] for n in ("h2_punch", "h2_punch_fine0.04")]),
+    ("docs/hybrid.md", "when the run reached its step limit, {} s after the handover (kinetic "
+     "energy {} % of the larger of its peak and the strain energy, where rest is 0.01 %); the "
+     "refined mesh came to rest {} s after the handover.",
+     lambda: [_punch("h2_punch")["discrete"]["time_to_rest_s"],
+              100.0 * _punch("h2_punch")["checks"]["rest_kinetic_ratio"]["computed"],
+              _punch("h2_punch_fine0.04")["discrete"]["time_to_rest_s"]]),
     ("docs/hybrid.md", "than the default one and heaves {} % more",
      lambda: [100.0 * (_json("docs/summaries/h2_structured.json")["discrete"][
          "max_heave_beside_footing_m"] / h2()["discrete"]["max_heave_beside_footing_m"] - 1.0)]),
@@ -553,6 +572,19 @@ def _h2_row(name: str) -> list[float]:
         row += [disc["final_settlement_m"], disc["final_total_settlement_m"],
                 disc["max_heave_beside_footing_m"], disc["interfaces_failed"]]
     return row
+
+
+def _punch(name: str) -> dict[str, Any]:
+    """A displacement-controlled H2 run's summary, checked to be one (control = punch)."""
+    d = _json(f"docs/summaries/{name}.json")
+    assert d["discrete"]["control"] == "punch", name
+    return d
+
+
+def _pair(key: str) -> list[float]:
+    """An H2 punch measure on the default mesh and its refinement, and their gap [%]."""
+    a, b = (_punch(n)["discrete"][key] for n in ("h2_punch", "h2_punch_fine0.04"))
+    return [a, b, 100.0 * _rel_spread([a, b])]
 
 
 def _spread(key: str) -> float:

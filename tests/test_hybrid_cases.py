@@ -221,6 +221,31 @@ def h2_refined(tmp_path_factory):
     return runs
 
 
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, raises=BarNotMet, reason=(
+    "not met: on the default mesh the broken soil at the footing edge has not come to rest "
+    "at the step limit after the push (12.2 s, kinetic energy 2.4 % of its reference); the "
+    "measures are within 10 % of the refined mesh's (docs/hybrid.md)"))
+def test_footing_punch_refined(case, tmp_path):
+    """H2 under a displacement-controlled punch (``control=punch``) on the default mesh and
+    its refinement: the mean bearing pressure over the push, the settlement and the heave at
+    rest within 10 % (the bar of the load-controlled runs above), and both runs at rest."""
+    runs = [case("footing_failure").main(out=tmp_path / name, output_every=0, progress=False,
+                                         control="punch", **mesh)
+            for name, mesh in (("fine", {"fine": 0.04}), ("default", {}))]
+    for s in runs:
+        for name in ("energy_excess_over_sources", "elements_conserved", "mass_conserved"):
+            assert s["checks"][name].passed, name
+    for measure in ("mean_bearing_pressure_kpa", "final_settlement_m",
+                    "max_heave_beside_footing_m"):  # met: a plain assert (not the known gap)
+        a, b = (s["discrete"][measure] for s in runs)
+        assert abs(a / b - 1.0) <= 0.10, (measure, a, b)
+    for s in runs:
+        if s["discrete"]["stop"] != "rest":
+            raise BarNotMet(f"not at rest: stopped by {s['discrete']['stop']} at "
+                            f"{s['discrete']['time_to_rest_s']:.3g} s")
+
+
 def _discrete_change(runs, measure: str) -> None:
     """``measure`` within 10 % between the refined and the default mesh. 10 %: the discrete
     phase follows one dynamic punch through a band of failed bonds whose path follows the

@@ -73,12 +73,12 @@ def test_c9_two_meshes(case, tmp_path, psi):
 def test_c9_three_meshes(case, tmp_path):
     """The report's mesh table: H/16, H/24, H/32 with psi = 0 and psi = phi, every C9 bar
     met; the non-associated F lies below the associated one on each mesh (non-associated
-    flow is weaker); the finest mesh reaches its F in under 60 s of solver time."""
+    flow is weaker). Solver time is reported in the summary, not asserted here (a timed test
+    measures the machine's load; performance figures come from ``hybrid bench``)."""
     associated = case("slope_fos").main(out=tmp_path / "psi20", meshes="16,24,32", psi=20.0)
     psi0 = case("slope_fos").main(out=tmp_path / "psi0", meshes="16,24,32", psi=0.0)
     for s in (associated, psi0):
         _assert_c9(s, 3)
-        assert s["meshes"][-1]["wall_time_s"] < 60.0
     for r0, r20 in zip(psi0["meshes"], associated["meshes"]):
         assert r0["F"] < r20["F"]
 

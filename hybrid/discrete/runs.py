@@ -22,10 +22,10 @@ from hybrid.discrete.energy import conservation_checks, energy_peak_ratio
 from hybrid.discrete.figures import Snapshots, plot_configuration
 from hybrid.discrete.outputs import frame_interval, standard_outputs
 from hybrid.discrete.solver import ExplicitSolver, RunOptions, RunResult
-from hybrid.discrete.state import DiscreteState
+from hybrid.discrete.state import LEDGER_GROUPS, DiscreteState
 from hybrid.io import Check
 
-__all__ = ["LoadProgram", "RestRun", "require_serial", "run_to_rest"]
+__all__ = ["LoadProgram", "PunchProgram", "RestRun", "require_serial", "run_to_rest"]
 
 _LOADING, _UNLOADING, _REMOVED = 0, 1, 2  # the phases of a LoadProgram
 
@@ -96,6 +96,168 @@ class LoadProgram:
         self.t_unload = None if np.isnan(t_unload) else t_unload
         self.at_unloading = None if np.isnan(at) else at
         self.curve = [(float(a), float(b)) for a, b in saved["curve"]]
+
+
+def support_work(state: DiscreteState) -> float:
+    """Work done on the state by its supports (fixed and prescribed velocities) so far [kJ/m].
+
+    The step kernel's own account (``integrate``: reaction times velocity times dt), so a
+    platen's mean reaction over a displacement is this work's change over it.
+    """
+    return float(state.group_energy[:, 1].sum() + state.ledger[LEDGER_GROUPS][1])
+
+
+@dataclass
+class PunchProgram:
+    """A rigid platen pushed down at a set speed to a settlement, then unloaded: an ``on_check``.
+
+    Displacement control, as in a load test on a rigid footing (the thesis, section 3.4:
+    "for smooth rigid or rough rigid footings a certain amount of displacement is normally
+    specified"). From ``t_start`` [s] the platen's ``nodes`` move down at a speed raised
+    linearly from 0 to ``speed`` [m/s] over ``ramp_time`` [s] and held until ``measure()``
+    (the settlement [m]) reaches ``target`` [m] (or after ``max_time`` [s]). Then the platen
+    is let go under the pressure it carried (force control, ``apply(pressure)`` in kPa) and
+    that pressure falls linearly to 0 over ``ramp_time``, as the thesis unloads its footing
+    (section 5.4.1). Called at every check, it returns True once the load is removed.
+
+    The bearing pressure is measured, not applied: the work of the platen's reaction
+    (:func:`support_work`) over the last ``window`` [m] of settlement, divided by that
+    settlement and the platen's ``width`` [m] (a mean reaction, free of the step-to-step
+    ringing of a stiff contact); ``measure()`` must be the platen's own settlement (the
+    mean downward movement of its nodes). Every other support must be at rest (checked by
+    :meth:`start`), so that the supports' work is the platen's. ``curve`` holds
+    (settlement, pressure [kPa]) at every check (measured while pushed, applied while
+    unloaded); ``t_unload`` the time of the unloading (from ``t_start``), ``at_unloading``
+    the settlement then and ``pressure_at_unloading`` the pressure let go (None before, and
+    when ``max_time`` came before half a window of settlement: the platen is then let go
+    under no load).
+    """
+
+    nodes: np.ndarray
+    apply: Callable[[float], None]
+    measure: Callable[[], float]
+    width: float  # [m]
+    speed: float  # [m/s]
+    target: float  # [m]
+    ramp_time: float  # [s]
+    max_time: float  # [s]
+    t_start: float  # [s]
+    window: float = 0.01  # [m]
+    phase: int = _LOADING
+    t_unload: float | None = None
+    at_unloading: float | None = None
+    pressure_at_unloading: float | None = None
+    curve: list[tuple[float, float]] = field(default_factory=list)
+    _work: list[tuple[float, float]] = field(default_factory=list)  # (settlement, work)
+
+    def __post_init__(self) -> None:
+        for name in ("width", "speed", "target", "ramp_time", "max_time", "window"):
+            if not getattr(self, name) > 0.0:
+                raise ValueError(f"PunchProgram: {name} = {getattr(self, name)!r} must be > 0")
+        if self.window > self.target:
+            raise ValueError(f"PunchProgram: window = {self.window} m must not exceed the "
+                             f"target settlement {self.target} m")
+        nodes = np.asarray(self.nodes)
+        self.nodes = np.flatnonzero(nodes) if nodes.dtype == bool else nodes.astype(np.int64)
+
+    def pressure(self) -> float | None:
+        """Mean bearing pressure over the last ``window`` of settlement [kPa].
+
+        None until the push has covered half a window.
+        """
+        s1, w1 = self._work[-1]
+        k = int(np.searchsorted([s for s, _ in self._work], s1 - self.window, side="right"))
+        s0, w0 = self._work[max(k - 1, 0)]
+        if s1 - s0 < 0.5 * self.window:
+            return None
+        return (w1 - w0) / ((s1 - s0) * self.width)
+
+    def start(self, state: DiscreteState) -> None:
+        """Take the platen over: its load removed and its vertical velocity held (at rest).
+
+        Called by the first check if not before; call it before the solver is made (a
+        resumed solver restores the program's progress afterwards), so that the platen is
+        held from the first step. The platen's nodes must be free vertically before.
+        """
+        if self._work:
+            return
+        if state.fixed[self.nodes, 1].any():
+            raise ValueError("PunchProgram: platen nodes are already held vertically; the "
+                             "program holds and lets go of them itself")
+        others = np.ones(state.n_nodes, dtype=bool)
+        others[self.nodes] = False
+        if (state.fixed[others] & (state.prescribed_velocity[others] != 0.0)).any():
+            raise ValueError("PunchProgram: other supports move (prescribed velocity not 0), "
+                             "so the supports' work is not the platen's; hold them at rest")
+        self.apply(0.0)
+        state.fix(self.nodes, x=False, y=True)
+        self._work.append((self.measure(), support_work(state)))
+
+    def mean_pressure(self, lower: float, upper: float) -> float:
+        """Mean bearing pressure [kPa] while the settlement went from ``lower`` to ``upper`` [m].
+
+        The work of the push over that settlement (interpolated between checks) divided by
+        it and by the ``width``.
+        """
+        if not (self._work and self._work[0][0] <= lower < upper <= self._work[-1][0]):
+            raise ValueError(f"PunchProgram.mean_pressure: {lower} to {upper} m lies outside "
+                             "the settlement pushed so far")
+        s, w = np.array(self._work).T
+        w0, w1 = np.interp([lower, upper], s, w)
+        return float((w1 - w0) / ((upper - lower) * self.width))
+
+    def __call__(self, state: DiscreteState) -> bool:
+        """Push, then unload, for the state's time; True once the load is removed."""
+        t = state.time - self.t_start
+        settlement = self.measure()
+        if self.phase == _LOADING:
+            self.start(state)
+            # the settlement only grows under the push: the window is taken along it
+            self._work.append((max(settlement, self._work[-1][0]), support_work(state)))
+            q = self.pressure()
+            if (settlement >= self.target and q is not None) or t >= self.max_time:
+                # let go under the pressure it carried (none measured yet: under none)
+                self.phase, self.t_unload = _UNLOADING, t
+                self.at_unloading, self.pressure_at_unloading = settlement, q
+                state.fixed[self.nodes, 1] = False
+                state.prescribed_velocity[self.nodes, 1] = 0.0
+                state.primed = False
+            else:
+                state.prescribed_velocity[self.nodes, 1] = (
+                    -self.speed * min(max(t, 0.0) / self.ramp_time, 1.0))
+                self.curve.append((settlement, float("nan") if q is None else q))
+        if self.phase == _UNLOADING:
+            assert self.t_unload is not None
+            value = (self.pressure_at_unloading or 0.0) * max(
+                1.0 - (t - self.t_unload) / self.ramp_time, 0.0)
+            self.apply(value)
+            if value == 0.0:
+                self.phase = _REMOVED
+            self.curve.append((settlement, value))
+        return self.phase == _REMOVED
+
+    @property
+    def removed(self) -> bool:
+        """True once the load has been removed."""
+        return self.phase == _REMOVED
+
+    def state(self) -> dict[str, np.ndarray]:
+        """The program's progress as arrays (for checkpoints)."""
+        nan = float("nan")
+        return {"phase": np.array(self.phase),
+                "unload": np.array([nan if v is None else v for v in
+                                    (self.t_unload, self.at_unloading,
+                                     self.pressure_at_unloading)]),
+                "curve": np.array(self.curve, dtype=float).reshape(-1, 2),
+                "work": np.array(self._work, dtype=float).reshape(-1, 2)}
+
+    def restore(self, saved: dict[str, np.ndarray]) -> None:
+        """Continue from :meth:`state`."""
+        self.phase = int(saved["phase"])
+        t, at, q = (None if np.isnan(v) else float(v) for v in saved["unload"])
+        self.t_unload, self.at_unloading, self.pressure_at_unloading = t, at, q
+        self.curve = [(float(a), float(b)) for a, b in saved["curve"]]
+        self._work = [(float(a), float(b)) for a, b in saved["work"]]
 
 
 @dataclass

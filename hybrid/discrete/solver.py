@@ -96,7 +96,7 @@ class _Progress:
     call: str  # the run's arguments (a resumed solver must be called the same way)
     phase: str  # name of the run in the outputs
     n_total: int | None  # steps of the run when bounded
-    external: bool  # loads were non-zero when the run started
+    external: bool  # loads were non-zero when the run started or an on_check put them on
     led0: EnergyLedger  # ledger at the start of the run
     monitor: Monitor
     split0: int  # ``ExplicitSolver.n_split`` at the start
@@ -398,7 +398,7 @@ class ExplicitSolver:
                 the kinetic energy alone).
             on_check: called with the state at every check; it may change loads
                 (``external_force``, load histories) and returns True to stop the run (stop
-                reason "callback"). Loads are read as non-zero when the run starts.
+                reason "callback"). Loads it puts on act from the next step.
             phase: the run's name in the outputs (animation titles; default "run N").
 
         A solver that resumed a checkpoint (:meth:`restore`) returns the saved results of
@@ -507,6 +507,8 @@ class ExplicitSolver:
                         break
                     if on_check is not None:
                         done = on_check(st)
+                        if not r.external and np.any(st.external_force):  # loads put on
+                            r.external = self._external = True
                         if done:
                             stop = "callback"
                             break
