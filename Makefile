@@ -96,10 +96,12 @@ docs: setup
 	# H2's mesh sensitivity (docs/hybrid.md): every mesh followed to rest; a discrete run that
 	# stops unstable (exit 3) is reported as such (docs/summaries/h2_*.unstable.txt, its
 	# message) beside the mesh's continuum summary; the displacement-controlled punch on the
-	# default mesh and its refinement
+	# default mesh and its refinement, at the default speed and at half of it
 	for run in "fine0.16 --set fine=0.16" "fine0.12 --set fine=0.12" "fine0.04 --set fine=0.04" \
 	    "structured --set structured=true" "punch --set control=punch" \
-	    "punch_fine0.04 --set control=punch --set fine=0.04"; do set -- $$run; name=$$1; shift; \
+	    "punch_fine0.04 --set control=punch --set fine=0.04" \
+	    "punch_v0.125 --set control=punch --set punch_speed=0.125" \
+	    "punch_v0.125_fine0.04 --set control=punch --set punch_speed=0.125 --set fine=0.04"; do set -- $$run; name=$$1; shift; \
 	    rm -f docs/summaries/h2_$$name.unstable.txt; \
 	    $(PY) -m hybrid run cases/footing_failure.py --out $(DOCS_RUN)/h2_$$name --overwrite \
 	    --set progress=false "$$@" 2> $(DOCS_RUN)/h2_$$name.stderr; rc=$$?; \
@@ -119,7 +121,8 @@ docs: setup
 	mkdir -p docs/summaries docs/figures/hybrid docs/figures/carsington
 	for c in h3_size1.0 h3_size0.25 h3_unstructured; do \
 	    cp $(DOCS_RUN)/$$c/summary.json docs/summaries/$$c.json; done
-	for c in h2_fine0.16 h2_fine0.12 h2_fine0.04 h2_structured h2_punch h2_punch_fine0.04; do \
+	for c in h2_fine0.16 h2_fine0.12 h2_fine0.04 h2_structured h2_punch h2_punch_fine0.04 \
+	    h2_punch_v0.125 h2_punch_v0.125_fine0.04; do \
 	    cp $(DOCS_RUN)/$$c/summary.json docs/summaries/$$c.json; done
 	for c in h2 h3 d10 carsington carsington_last_lift carsington_softening \
 	    carsington_softening_ur0.2 carsington_softening_ur1 carsington_softening_size3 \
@@ -133,6 +136,7 @@ docs: setup
 	cp $(DOCS_RUN)/carsington_softening/discrete_final.png \
 	    docs/figures/carsington/softening_discrete_final.png
 	cp $(DOCS_RUN)/h2/load_settlement.png docs/figures/hybrid/h2_load_settlement.png
+	cp $(DOCS_RUN)/h2_punch/load_settlement.png docs/figures/hybrid/h2_punch_load_settlement.png
 	cp $(DOCS_RUN)/h2/final.png docs/figures/hybrid/h2_final.png
 	cp $(DOCS_RUN)/h2/handover_plastic_strain.png docs/figures/hybrid/h2_handover_plastic_strain.png
 	cp $(DOCS_RUN)/h2/discrete/discrete.gif docs/figures/hybrid/h2_discrete.gif

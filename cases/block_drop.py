@@ -83,7 +83,8 @@ def main(out: str | Path = "results/block_drop", **overrides) -> CaseSummary:
     n_base = n(b) * n(hb)
     top = np.arange(2 * n_base, st.n_elements)
     st.fix(np.isclose(st.x_ref[:, 1], 0.0))
-    outputs = standard_outputs(out, output_every=p.output_every, progress=p.progress)
+    outputs = standard_outputs(out, output_every=p.output_every, progress=p.progress,
+                               material_names=[mat.name])
     with ExplicitSolver(st, RunOptions(mass_damping=p.mass_damping), observers=outputs) as solver:
         res = solver.run(until_rest=p.rest, max_steps=p.max_steps, check_every=p.check_every)
     h = res.history

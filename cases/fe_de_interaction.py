@@ -81,7 +81,8 @@ def main(out: str | Path = "results/fe_de_interaction", **overrides) -> CaseSumm
     for e in st.element_nodes[n_ass:]:  # Q4 nodes 2, 3 form the top edge (counter-clockwise)
         length = abs(xr[e[2], 0] - xr[e[3], 0])
         st.external_force[[e[2], e[3]], 1] -= q * length / 2.0
-    outputs = standard_outputs(out, output_every=p.output_every, progress=p.progress)
+    outputs = standard_outputs(out, output_every=p.output_every, progress=p.progress,
+                               material_names=[mat.name])
     with ExplicitSolver(st, RunOptions(mass_damping=p.mass_damping), observers=outputs) as solver:
         res = solver.run(until_rest=p.rest, max_steps=p.max_steps, check_every=p.check_every)
     h = res.history

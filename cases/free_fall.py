@@ -104,7 +104,8 @@ def main(out: str | Path = "results/free_fall", **overrides) -> CaseSummary:
         # v(-dt/2) = 0, so the closed form below is started at -dt/2 too
         record.append((s.time - 0.5 * s.dt, -float(s.v[:, 1].mean())))
 
-    outputs = standard_outputs(out, output_every=p.output_every, progress=p.progress)
+    outputs = standard_outputs(out, output_every=p.output_every, progress=p.progress,
+                               material_names=[mat.name])
     with ExplicitSolver(st, RunOptions(dt=dt, mass_damping=p.mass_damping),
                         observers=outputs) as solver:
         res = solver.run(until_time=p.t_end, check_every=p.check_every, on_check=on_check)

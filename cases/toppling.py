@@ -174,7 +174,8 @@ def main(out: str | Path = "results/toppling", **overrides) -> CaseSummary:
     # splitting done here (after each block of split_every steps, where the contact list is
     # refreshed on the next step as the solver does with its own split_every)
     options = RunOptions(mass_damping=p.mass_damping, contact=True, contact_refresh=p.split_every)
-    outputs = standard_outputs(out, output_every=p.output_every, progress=p.progress)
+    outputs = standard_outputs(out, output_every=p.output_every, progress=p.progress,
+                               material_names=hand.material_names)
     with ExplicitSolver(st, options, observers=outputs) as solver:
         res = solver.run(until_rest=p.rest, until_time=p.t_end, check_every=p.split_every,
                          on_check=split)

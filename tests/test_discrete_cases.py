@@ -14,14 +14,16 @@ from conftest import assert_bars
 
 
 def _assert_outputs(out, summary, min_frames=1):
-    """summary.json mirrors the summary; the XDMF time series opens and holds every element
-    with the displacement and stress fields; the GIF, PNG frames and energy plot exist."""
+    """summary.json mirrors the summary; the XDMF time series opens, names its materials
+    and holds every element with the displacement and stress fields; the GIF, PNG frames
+    and energy plot exist."""
     data = json.loads((out / "summary.json").read_text())
     assert set(data["checks"]) == set(summary["checks"])
     for name, check in summary["checks"].items():
         assert data["checks"][name]["passed"] == check.passed, name
     for name in ("discrete.xdmf", "discrete.h5", "discrete.gif", "energy.png"):
         assert (out / name).is_file(), name
+    assert 'Name="material_names" Value="0: ' in (out / "discrete.xdmf").read_text()
     reader = meshio.xdmf.TimeSeriesReader(out / "discrete.xdmf")
     points, cells = reader.read_points_cells()
     assert reader.num_steps >= min_frames

@@ -221,29 +221,44 @@ def h2_refined(tmp_path_factory):
     return runs
 
 
-@pytest.mark.slow
-@pytest.mark.xfail(strict=True, raises=BarNotMet, reason=(
-    "not met: on the default mesh the broken soil at the footing edge has not come to rest "
-    "at the step limit after the push (12.2 s, kinetic energy 2.4 % of its reference); the "
-    "measures are within 10 % of the refined mesh's (docs/hybrid.md)"))
-def test_footing_punch_refined(case, tmp_path):
-    """H2 under a displacement-controlled punch (``control=punch``) on the default mesh and
-    its refinement: the mean bearing pressure over the push, the settlement and the heave at
-    rest within 10 % (the bar of the load-controlled runs above), and both runs at rest."""
-    runs = [case("footing_failure").main(out=tmp_path / name, output_every=0, progress=False,
-                                         control="punch", **mesh)
+@pytest.fixture(scope="module")
+def h2_punch_refined(tmp_path_factory):
+    """H2 under a displacement-controlled punch (``control=punch``, 0.25 m/s) to rest on the
+    default mesh and its refinement, run once for the two tests below: both at rest with
+    bounded energy, elements and mass kept, let go at the target settlement."""
+    from hybrid.case import load_case
+
+    h2 = load_case(CASES / "footing_failure.py")
+    out = tmp_path_factory.mktemp("h2_punch_refined")
+    runs = [h2.main(out=out / name, output_every=0, progress=False, control="punch", **mesh)
             for name, mesh in (("fine", {"fine": 0.04}), ("default", {}))]
     for s in runs:
-        for name in ("energy_excess_over_sources", "elements_conserved", "mass_conserved"):
-            assert s["checks"][name].passed, name
-    for measure in ("mean_bearing_pressure_kpa", "final_settlement_m",
-                    "max_heave_beside_footing_m"):  # met: a plain assert (not the known gap)
-        a, b = (s["discrete"][measure] for s in runs)
-        assert abs(a / b - 1.0) <= 0.10, (measure, a, b)
-    for s in runs:
-        if s["discrete"]["stop"] != "rest":
-            raise BarNotMet(f"not at rest: stopped by {s['discrete']['stop']} at "
-                            f"{s['discrete']['time_to_rest_s']:.3g} s")
+        assert_bars(s)
+        assert s["discrete"]["stop"] == "rest"
+        assert s["discrete"]["settlement_at_unloading_m"] >= s["parameters"]["target_settlement"]
+    return runs
+
+
+@pytest.mark.slow
+def test_footing_punch_refined(h2_punch_refined):
+    """The punch's measured figures on the default mesh and its refinement: the mean bearing
+    pressure over the push and the heave at rest within 10 % (the bar of the load-controlled
+    runs: one mechanism through a band of failed bonds that follows the mesh, not a limit
+    load; the heave, 9.3 % apart here, is close to it)."""
+    for measure in ("mean_bearing_pressure_kpa", "max_heave_beside_footing_m"):
+        _discrete_change(h2_punch_refined, measure)
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, raises=BarNotMet, reason=(
+    "not met: the footing rises 0.028 m on 0.04 m against 0.045 m on 0.08 m as its load comes "
+    "off (docs/hybrid.md); the settlement before it is prescribed (0.5 m)"))
+def test_footing_punch_rise_refined(h2_punch_refined):
+    """The one settlement the punch measures rather than prescribes, the rise as the load
+    comes off (settlement at unloading minus final), within 10 % on the two meshes."""
+    a, b = (s["discrete"]["settlement_at_unloading_m"] - s["discrete"]["final_settlement_m"]
+            for s in h2_punch_refined)
+    assert_within(a, b, 0.10, "rise as the load comes off on 0.04 m against 0.08 m")
 
 
 def _discrete_change(runs, measure: str) -> None:
