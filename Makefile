@@ -96,10 +96,13 @@ docs: setup
 	# H2's mesh sensitivity (docs/hybrid.md): every mesh followed to rest; a discrete run that
 	# stops unstable (exit 3) is reported as such (docs/summaries/h2_*.unstable.txt, its
 	# message) beside the mesh's continuum summary; the displacement-controlled punch on the
-	# default mesh and its refinement, at the default speed and at half of it
+	# default mesh, its refinement and the coarser and structured meshes, the default mesh and
+	# its refinement at half the speed too
 	for run in "fine0.16 --set fine=0.16" "fine0.12 --set fine=0.12" "fine0.04 --set fine=0.04" \
 	    "structured --set structured=true" "punch --set control=punch" \
 	    "punch_fine0.04 --set control=punch --set fine=0.04" \
+	    "punch_fine0.12 --set control=punch --set fine=0.12" \
+	    "punch_structured --set control=punch --set structured=true" \
 	    "punch_v0.125 --set control=punch --set punch_speed=0.125" \
 	    "punch_v0.125_fine0.04 --set control=punch --set punch_speed=0.125 --set fine=0.04"; do set -- $$run; name=$$1; shift; \
 	    rm -f docs/summaries/h2_$$name.unstable.txt; \
@@ -122,7 +125,7 @@ docs: setup
 	for c in h3_size1.0 h3_size0.25 h3_unstructured; do \
 	    cp $(DOCS_RUN)/$$c/summary.json docs/summaries/$$c.json; done
 	for c in h2_fine0.16 h2_fine0.12 h2_fine0.04 h2_structured h2_punch h2_punch_fine0.04 \
-	    h2_punch_v0.125 h2_punch_v0.125_fine0.04; do \
+	    h2_punch_v0.125 h2_punch_v0.125_fine0.04 h2_punch_fine0.12 h2_punch_structured; do \
 	    cp $(DOCS_RUN)/$$c/summary.json docs/summaries/$$c.json; done
 	for c in h2 h3 d10 carsington carsington_last_lift carsington_softening \
 	    carsington_softening_ur0.2 carsington_softening_ur1 carsington_softening_size3 \

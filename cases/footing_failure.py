@@ -61,8 +61,8 @@ Verification (H2 has no closed form)
     and settles further); the settlement at rest moves by more (the footing runs on further
     while unloaded on the refined mesh): not verified. Under ``control=punch`` the mean
     bearing pressure and the heave at rest are within 10 % on the default mesh and one
-    refinement; the settlement is prescribed up to the rise as the load comes off, and that
-    rise is not converged.
+    refinement (not across mesh types: the structured mesh heaves further); the settlement
+    is prescribed up to the rise as the load comes off, and that rise is not converged.
 References
     G. S. Bala (2008), thesis, section 5.4.1 (the footing is loaded to 1 800 kPa there).
 """
