@@ -96,8 +96,8 @@ docs: setup
 	# H2's mesh sensitivity (docs/hybrid.md): every mesh followed to rest; a discrete run that
 	# stops unstable (exit 3) is reported as such (docs/summaries/h2_*.unstable.txt, its
 	# message) beside the mesh's continuum summary; the displacement-controlled punch on the
-	# default mesh, its refinement and the coarser and structured meshes, the default mesh and
-	# its refinement at half the speed too
+	# default mesh, its refinement, the 0.12 m and the structured meshes, and the default mesh
+	# and its refinement at half the speed
 	for run in "fine0.16 --set fine=0.16" "fine0.12 --set fine=0.12" "fine0.04 --set fine=0.04" \
 	    "structured --set structured=true" "punch --set control=punch" \
 	    "punch_fine0.04 --set control=punch --set fine=0.04" \
