@@ -30,8 +30,30 @@ __all__ = ["LoadProgram", "PunchProgram", "RestRun", "require_serial", "run_to_r
 _LOADING, _UNLOADING, _REMOVED = 0, 1, 2  # the phases of a LoadProgram
 
 
+class _Unloading:
+    """What a load program and a punch share: the removal of a load over ``ramp_time``."""
+
+    phase: int
+    ramp_time: float  # [s]
+
+    @property
+    def removed(self) -> bool:
+        """True once the load has been removed."""
+        return self.phase == _REMOVED
+
+    def _ramp_down(self, peak: float, t: float, t_unload: float) -> float:
+        """The load ``peak`` falling linearly to 0 over ``ramp_time`` from ``t_unload`` [s].
+
+        The program is removed once it is 0.
+        """
+        value = peak * max(1.0 - (t - t_unload) / self.ramp_time, 0.0)
+        if value == 0.0:
+            self.phase = _REMOVED
+        return value
+
+
 @dataclass
-class LoadProgram:
+class LoadProgram(_Unloading):
     """A load raised, held until a displacement is reached, then removed: a run's ``on_check``.
 
     From ``t_start`` [s] the load value goes linearly from ``start`` to ``peak`` over
@@ -67,18 +89,11 @@ class LoadProgram:
                 self.phase, self.t_unload, self.at_unloading = _UNLOADING, t, self.measure()
         if self.phase == _UNLOADING:
             assert self.t_unload is not None
-            value = self.peak * max(1.0 - (t - self.t_unload) / self.ramp_time, 0.0)
-            if value == 0.0:
-                self.phase = _REMOVED
+            value = self._ramp_down(self.peak, t, self.t_unload)
         if self.phase == _REMOVED:
             value = 0.0
         self.apply(value)
         self.curve.append((self.measure(), value))
-        return self.phase == _REMOVED
-
-    @property
-    def removed(self) -> bool:
-        """True once the load has been removed."""
         return self.phase == _REMOVED
 
     def state(self) -> dict[str, np.ndarray]:
@@ -108,7 +123,7 @@ def support_work(state: DiscreteState) -> float:
 
 
 @dataclass
-class PunchProgram:
+class PunchProgram(_Unloading):
     """A rigid platen pushed down at a set speed to a settlement, then unloaded: an ``on_check``.
 
     Displacement control, as in a load test on a rigid footing (the thesis, section 3.4:
@@ -228,17 +243,9 @@ class PunchProgram:
                 self.curve.append((settlement, float("nan") if q is None else q))
         if self.phase == _UNLOADING:
             assert self.t_unload is not None
-            value = (self.pressure_at_unloading or 0.0) * max(
-                1.0 - (t - self.t_unload) / self.ramp_time, 0.0)
+            value = self._ramp_down(self.pressure_at_unloading or 0.0, t, self.t_unload)
             self.apply(value)
-            if value == 0.0:
-                self.phase = _REMOVED
             self.curve.append((settlement, value))
-        return self.phase == _REMOVED
-
-    @property
-    def removed(self) -> bool:
-        """True once the load has been removed."""
         return self.phase == _REMOVED
 
     def state(self) -> dict[str, np.ndarray]:
