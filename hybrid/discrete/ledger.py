@@ -31,6 +31,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass, fields
 
+import numpy as np
+
 from hybrid.discrete import integrate
 from hybrid.discrete.elements import strain_energy
 from hybrid.discrete.state import (
@@ -42,7 +44,25 @@ from hybrid.discrete.state import (
 )
 
 __all__ = ["EnergyLedger", "LEDGER_FRICTION", "LEDGER_CONTACT_DAMPING", "LEDGER_GROUPS",
-           "LEDGER_CONTACT_NORMAL"]
+           "LEDGER_CONTACT_NORMAL", "group_works", "support_work"]
+
+
+def group_works(state: DiscreteState) -> np.ndarray:
+    """The works the step kernel accumulates per tie group, summed over the state so far.
+
+    [loads and gravity, supports, mass damping, local damping] [kJ/m] (``integrate``), the
+    part folded into ``LEDGER_GROUPS`` when the groups changed included.
+    """
+    return state.group_energy.sum(axis=0) + state.ledger[LEDGER_GROUPS]
+
+
+def support_work(state: DiscreteState) -> float:
+    """Work done on the state by its supports (fixed and prescribed velocities) so far [kJ/m].
+
+    The step kernel's own account (reaction times velocity times dt), so a platen's mean
+    reaction over a displacement is this work's change over it.
+    """
+    return float(group_works(state)[1])
 
 
 @dataclass(frozen=True)
@@ -66,7 +86,7 @@ class EnergyLedger:
     @classmethod
     def measure(cls, state: DiscreteState) -> EnergyLedger:
         """The ledger of ``state`` now: its energies and its accumulated works."""
-        ge = state.group_energy.sum(axis=0) + state.ledger[LEDGER_GROUPS]
+        ge = group_works(state)
         u_n = u_t = 0.0
         if state.contact_pairs.shape[0]:
             from hybrid.discrete import contact as cmod

@@ -20,9 +20,10 @@ import numpy as np
 
 from hybrid.discrete.energy import conservation_checks, energy_peak_ratio
 from hybrid.discrete.figures import Snapshots, plot_configuration
+from hybrid.discrete.ledger import support_work
 from hybrid.discrete.outputs import frame_interval, standard_outputs
 from hybrid.discrete.solver import ExplicitSolver, RunOptions, RunResult
-from hybrid.discrete.state import LEDGER_GROUPS, DiscreteState
+from hybrid.discrete.state import DiscreteState
 from hybrid.io import Check
 
 __all__ = ["LoadProgram", "PunchProgram", "RestRun", "require_serial", "run_to_rest"]
@@ -113,15 +114,6 @@ class LoadProgram(_Unloading):
         self.curve = [(float(a), float(b)) for a, b in saved["curve"]]
 
 
-def support_work(state: DiscreteState) -> float:
-    """Work done on the state by its supports (fixed and prescribed velocities) so far [kJ/m].
-
-    The step kernel's own account (``integrate``: reaction times velocity times dt), so a
-    platen's mean reaction over a displacement is this work's change over it.
-    """
-    return float(state.group_energy[:, 1].sum() + state.ledger[LEDGER_GROUPS][1])
-
-
 @dataclass
 class PunchProgram(_Unloading):
     """A rigid platen pushed down at a set speed to a settlement, then unloaded: an ``on_check``.
@@ -136,16 +128,16 @@ class PunchProgram(_Unloading):
     (section 5.4.1). Called at every check, it returns True once the load is removed.
 
     The bearing pressure is measured, not applied: the work of the platen's reaction
-    (:func:`support_work`) over the last ``window`` [m] of settlement, divided by that
-    settlement and the platen's ``width`` [m] (a mean reaction, free of the step-to-step
-    ringing of a stiff contact); ``measure()`` must be the platen's own settlement (the
-    mean downward movement of its nodes). Every other support must be at rest (checked by
-    :meth:`start`), so that the supports' work is the platen's. ``curve`` holds
-    (settlement, pressure [kPa]) at every check (measured while pushed, applied while
-    unloaded); ``t_unload`` the time of the unloading (from ``t_start``), ``at_unloading``
-    the settlement then and ``pressure_at_unloading`` the pressure let go (None before, and
-    when ``max_time`` came before half a window of settlement: the platen is then let go
-    under no load).
+    (:func:`~hybrid.discrete.ledger.support_work`) over the last ``window`` [m] of
+    settlement, divided by that settlement and the platen's ``width`` [m] (a mean reaction,
+    free of the step-to-step ringing of a stiff contact); ``measure()`` must be the
+    platen's own settlement (the mean downward movement of its nodes). Every other support
+    must be at rest (checked by :meth:`start`), so that the supports' work is the platen's.
+    ``curve`` holds (settlement, pressure [kPa]) at every check (measured while pushed,
+    applied while unloaded); ``t_unload`` the time of the unloading (from ``t_start``),
+    ``at_unloading`` the settlement then and ``pressure_at_unloading`` the pressure let go
+    (None before, and when ``max_time`` came before half a window of settlement: the platen
+    is then let go under no load).
     """
 
     nodes: np.ndarray
