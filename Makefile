@@ -71,11 +71,12 @@ docs: setup
 	    --overwrite || [ $$? -eq 4 ] || exit 1
 	$(PY) -m hybrid run cases/carsington.py --out $(DOCS_RUN)/carsington_last_lift --set progress=false \
 	    --set last_lift_parts=10 --set safety=false --set discrete_time=0 --overwrite
-	# beyond the thesis: strain softening (u_r 0.5 m; 0.2 and 1 m; 0.5 m on 8, 5, 4 and 3 m
-	# elements)
+	# beyond the thesis: strain softening (u_r 0.5 m; 0.2 and 1 m; 0.5 m on 8, 5, 4, 3, 2.5, 2
+	# and 1.5 m elements)
 	for run in "softening 0.5 6" "softening_ur0.2 0.2 6" "softening_ur1 1.0 6" \
 	    "softening_size8 0.5 8" "softening_size5 0.5 5" "softening_size4 0.5 4" \
-	    "softening_size3 0.5 3"; do set -- $$run; \
+	    "softening_size3 0.5 3" "softening_size2.5 0.5 2.5" "softening_size2 0.5 2" \
+	    "softening_size1.5 0.5 1.5"; do set -- $$run; \
 	    $(PY) -m hybrid run cases/carsington.py --out $(DOCS_RUN)/carsington_$$1 --overwrite \
 	    --set progress=false --set safety=false --set softening=true \
 	    --set softening_displacement=$$2 --set size=$$3 || [ $$? -eq 4 ] || exit 1; done
@@ -96,15 +97,18 @@ docs: setup
 	# H2's mesh sensitivity (docs/hybrid.md): every mesh followed to rest; a discrete run that
 	# stops unstable (exit 3) is reported as such (docs/summaries/h2_*.unstable.txt, its
 	# message) beside the mesh's continuum summary; the displacement-controlled punch on the
-	# default mesh, its refinement, the 0.12 m and the structured meshes, and the default mesh
-	# and its refinement at half the speed
+	# default mesh, its refinement, the 0.12 m and the structured meshes, the default mesh
+	# and its refinement at half the speed, and the default mesh with half and twice the
+	# softening slip u_r
 	for run in "fine0.16 --set fine=0.16" "fine0.12 --set fine=0.12" "fine0.04 --set fine=0.04" \
 	    "structured --set structured=true" "punch --set control=punch" \
 	    "punch_fine0.04 --set control=punch --set fine=0.04" \
 	    "punch_fine0.12 --set control=punch --set fine=0.12" \
 	    "punch_structured --set control=punch --set structured=true" \
 	    "punch_v0.125 --set control=punch --set punch_speed=0.125" \
-	    "punch_v0.125_fine0.04 --set control=punch --set punch_speed=0.125 --set fine=0.04"; do set -- $$run; name=$$1; shift; \
+	    "punch_v0.125_fine0.04 --set control=punch --set punch_speed=0.125 --set fine=0.04" \
+	    "punch_ur0.1 --set control=punch --set softening_displacement=0.1" \
+	    "punch_ur0.4 --set control=punch --set softening_displacement=0.4"; do set -- $$run; name=$$1; shift; \
 	    rm -f docs/summaries/h2_$$name.unstable.txt; \
 	    $(PY) -m hybrid run cases/footing_failure.py --out $(DOCS_RUN)/h2_$$name --overwrite \
 	    --set progress=false "$$@" 2> $(DOCS_RUN)/h2_$$name.stderr; rc=$$?; \
@@ -125,11 +129,13 @@ docs: setup
 	for c in h3_size1.0 h3_size0.25 h3_unstructured; do \
 	    cp $(DOCS_RUN)/$$c/summary.json docs/summaries/$$c.json; done
 	for c in h2_fine0.16 h2_fine0.12 h2_fine0.04 h2_structured h2_punch h2_punch_fine0.04 \
-	    h2_punch_v0.125 h2_punch_v0.125_fine0.04 h2_punch_fine0.12 h2_punch_structured; do \
+	    h2_punch_v0.125 h2_punch_v0.125_fine0.04 h2_punch_fine0.12 h2_punch_structured \
+	    h2_punch_ur0.1 h2_punch_ur0.4; do \
 	    cp $(DOCS_RUN)/$$c/summary.json docs/summaries/$$c.json; done
 	for c in h2 h3 d10 carsington carsington_last_lift carsington_softening \
 	    carsington_softening_ur0.2 carsington_softening_ur1 carsington_softening_size3 \
 	    carsington_softening_size4 carsington_softening_size5 carsington_softening_size8 \
+	    carsington_softening_size2.5 carsington_softening_size2 carsington_softening_size1.5 \
 	    carsington_damping0.5 carsington_damping3 carsington_discrete_softening \
 	    carsington_design_height carsington_design_height_softening; do \
 	    cp $(DOCS_RUN)/$$c/summary.json docs/summaries/$$c.json; done

@@ -215,33 +215,47 @@ QUOTES: list[Quote] = [
      lambda: _softening("carsington_softening_size5")),
     ("docs/carsington.md", SOFT_ROW + "\n| 0.5 | 3 |",
      lambda: _softening("carsington_softening_size4")),
-    ("docs/carsington.md", SOFT_ROW + "\n| 0.2",
+    ("docs/carsington.md", SOFT_ROW + "\n| 0.5 | 2.5 |",
      lambda: _softening("carsington_softening_size3")),
+    ("docs/carsington.md", SOFT_ROW + "\n| 0.5 | 2 |",
+     lambda: _softening("carsington_softening_size2.5")),
+    ("docs/carsington.md", SOFT_ROW + "\n| 0.5 | 1.5 |",
+     lambda: _softening("carsington_softening_size2")),
+    ("docs/carsington.md", SOFT_ROW + "\n| 0.2",
+     lambda: _softening("carsington_softening_size1.5")),
     ("docs/carsington.md", SOFT_ROW + "\n| 1.0",
      lambda: _softening("carsington_softening_ur0.2")),
     ("docs/carsington.md", SOFT_ROW + "\n\n- **Fill",
      lambda: _softening("carsington_softening_ur1")),
-    ("docs/carsington.md", "on the five meshes the same lift collapses at nearly the same weight "
+    ("docs/carsington.md", "on the eight meshes the same lift collapses at nearly the same weight "
      "({}-{} % of it",
      lambda: [f(100.0 * _json(f"docs/summaries/{n}.json")["construction"]["collapsing_lift"][
          "weight_carried"] for n in SOFT_MESHES) for f in (min, max)]),
     ("docs/carsington.md", "crest drops {}-{} m against about {} m observed ({} % short at "
      "most, within the {} % bar), and moves {} % from the 4 m to the 3 m mesh",
-     lambda: _cars_crest_spread()),
-    ("docs/carsington.md", "The upstream toe advances {}, {}, {}, {} and {} m on the 8, 6, 5, 4 "
-     "and 3 m meshes", lambda: [_soft_disc(n)["toe_runout_m"] for n in SOFT_MESHES]),
-    ("docs/carsington.md", "passes in every row of the table), {} m deep on each of the five "
-     "meshes", lambda: sorted({round(_soft_disc(n)["crest_crack_depth_m"], 1)
-                               for n in SOFT_MESHES})),
-    ("docs/carsington.md", "and {} % apart between those two, beyond the {} % mesh bar",
-     lambda: [100.0 * abs(_soft_disc(SOFT_MESHES[4])["toe_runout_m"]
-                          / _soft_disc(SOFT_MESHES[3])["toe_runout_m"] - 1.0), 15.0]),
-    ("docs/carsington.md", "The shoulder as a whole moves {}, {}, {}, {} and {} m upstream on "
-     "average: {} % apart on the three finest meshes",
+     lambda: _cars_crest_spread()[:6]),
+    ("docs/carsington.md", "runs those two) and {} % from the 2 m to the 1.5 m mesh",
+     lambda: _cars_crest_spread()[6:]),
+    ("docs/carsington.md", "The upstream toe advances {}, {}, {}, {}, {}, {}, {} and {} m on the "
+     "{}, {}, {}, {}, {}, {}, {} and {} m meshes",
+     lambda: [_soft_disc(n)["toe_runout_m"] for n in SOFT_MESHES] + _soft_sizes(SOFT_MESHES)),
+    ("docs/carsington.md", "within the {} % bar on every mesh of {} m and finer",
+     lambda: _toe_within_bar()),
+    ("docs/carsington.md", "check passes on the {}, {}, {}, {}, {} and {} m meshes and fails on "
+     "the {} and {} m meshes. Where it is found it runs {} or {} m deep",
+     lambda: [*_crest_crack_meshes(True), *_crest_crack_meshes(False),
+              *sorted({round(_soft_disc(n)["crest_crack_depth_m"], 1) for n in SOFT_MESHES
+                       if _soft_disc(n)["crest_crack_interfaces"] > 0})]),
+    ("docs/carsington.md", "from one of those meshes to the next it moves by {}, {}, {} and {} %, "
+     "twice beyond the {} % mesh bar", lambda: [*_toe_steps()[0], 15.0]),
+    ("docs/carsington.md", "moves from mesh to mesh by up to about one element ({}, {}, {} and "
+     "{} m)", lambda: _toe_steps()[1]),
+    ("docs/carsington.md", "The shoulder as a whole moves {}, {}, {}, {}, {}, {}, {} and {} m "
+     "upstream on average: {} % apart on the three finest meshes",
      lambda: [-_soft_disc(n)["upstream_shoulder_mean_dx_m"] for n in SOFT_MESHES]
      + [100.0 * _rel_spread([_soft_disc(n)["upstream_shoulder_mean_dx_m"]
-                             for n in SOFT_MESHES[2:]])]),
-    ("docs/carsington.md", "The node first at the toe moves {}, {}, {}, {} and {} m",
+                             for n in SOFT_MESHES[-3:]])]),
+    ("docs/carsington.md", "The node first at the toe moves {}, {}, {}, {}, {}, {}, {} and {} m",
      lambda: [-_soft_disc(n)["upstream_toe_dx_m"] for n in SOFT_MESHES]),
     ("docs/carsington.md", "With u_r 1 m the toe advances {} m",
      lambda: [_soft_disc("carsington_softening_ur1")["toe_runout_m"]]),
@@ -327,9 +341,24 @@ QUOTES: list[Quote] = [
      "| `fine={}` | {} | {} | {} | {} | {} | {} |\n"
      "| `fine={}` (default) | {} | {} | {} | {} | {} | {} |\n"
      "| `fine={}` | {} | {} | {} | {} | {} | {} |\n"
-     "| structured, `fine={}` | {} | {} | {} | {} | {} | {} |",
+     "| structured, `fine={}` | {} | {} | {} | {} | {} | {} |\n"
+     "| `fine={}`, u_r = {} m | {} | {} | {} | {} | {} | {} |\n"
+     "| `fine={}`, u_r = {} m | {} | {} | {} | {} | {} | {} |",
      lambda: [v for n in ("h2_punch_fine0.12", *PUNCH_RUNS, "h2_punch_structured")
-              for v in _punch_row(n)]),
+              for v in _punch_row(n)]
+     + [v for n in ("h2_punch_ur0.1", "h2_punch_ur0.4")
+        for v in [*_punch_row(n)[:1], _punch(n)["parameters"]["softening_displacement"],
+                  *_punch_row(n)[1:]]]),
+    ("docs/hybrid.md", "with half of it ({} m) the soil heaves {} % more and the mean pressure "
+     "is {} % lower; with twice it ({} m) the heave is {} % smaller and the mean pressure {} % "
+     "higher (the last two rows; the continuum's collapse load moves by {} and +{} %)",
+     lambda: [_punch("h2_punch_ur0.1")["parameters"]["softening_displacement"],
+              _ur_change("h2_punch_ur0.1", "max_heave_beside_footing_m"),
+              -_ur_change("h2_punch_ur0.1", "mean_bearing_pressure_kpa"),
+              _punch("h2_punch_ur0.4")["parameters"]["softening_displacement"],
+              -_ur_change("h2_punch_ur0.4", "max_heave_beside_footing_m"),
+              _ur_change("h2_punch_ur0.4", "mean_bearing_pressure_kpa"),
+              _ur_collapse("h2_punch_ur0.1"), _ur_collapse("h2_punch_ur0.4")]),
     ("docs/hybrid.md", "Over the three unstructured meshes (0.12, 0.08 and 0.04 m) the mean "
      "pressures are {} % apart and the heaves {} %; the structured mesh heaves {} % more than "
      "the default one, and its mean pressure and its pressure over the last fifth are {} and "
@@ -537,10 +566,42 @@ def _cars_discrete(name: str) -> list[float]:
     return [d["toe_runout_m"], d["crest_drop_m"], d["interfaces_failed"], d["time_s"]]
 
 
-# the softening analysis (u_r 0.5 m) on the 8, 6 and 4 m meshes
+# the softening analysis (u_r 0.5 m) on the 8, 6, 5, 4, 3, 2.5, 2 and 1.5 m meshes
 SOFT_MESHES = ("carsington_softening_size8", "carsington_softening",
                "carsington_softening_size5", "carsington_softening_size4",
-               "carsington_softening_size3")
+               "carsington_softening_size3", "carsington_softening_size2.5",
+               "carsington_softening_size2", "carsington_softening_size1.5")
+
+
+def _soft_sizes(names: tuple[str, ...] | list[str]) -> list[float]:
+    return [_json(f"docs/summaries/{n}.json")["parameters"]["size"] for n in names]
+
+
+def _toe_within_bar() -> list[float]:
+    """The bar [%] of the toe against the observed slide, and the coarsest mesh [m] from
+    which every finer one meets it (nan if the finest does not)."""
+    ok = [_json(f"docs/summaries/{n}.json")["checks"]["upstream_toe_movement"]["passed"]
+          for n in SOFT_MESHES]
+    bar = _json(f"docs/summaries/{SOFT_MESHES[0]}.json")["checks"]["upstream_toe_movement"]["bar"]
+    k = len(ok)
+    while k > 0 and ok[k - 1]:
+        k -= 1
+    return [100.0 * bar, _soft_sizes(SOFT_MESHES)[k] if k < len(ok) else math.nan]
+
+
+def _toe_steps() -> tuple[list[float], list[float]]:
+    """The toe's change from each mesh of 4 m and finer to the next: larger over smaller
+    minus one [%], and its size [m]."""
+    toe = [_soft_disc(n)["toe_runout_m"] for n in SOFT_MESHES[3:]]
+    pairs = list(zip(toe, toe[1:]))
+    return ([100.0 * (max(a, b) / min(a, b) - 1.0) for a, b in pairs],
+            [abs(b - a) for a, b in pairs])
+
+
+def _crest_crack_meshes(found: bool) -> list[float]:
+    """The sizes [m] of the softening meshes whose crest-crack check passed (or failed)."""
+    return [size for n, size in zip(SOFT_MESHES, _soft_sizes(SOFT_MESHES), strict=True)
+            if _json(f"docs/summaries/{n}.json")["checks"]["crack_at_crest"]["passed"] == found]
 
 
 def _soft_disc(name: str) -> dict[str, Any]:
@@ -553,16 +614,17 @@ def _rel_spread(values: list[float]) -> float:
 
 
 def _cars_crest_spread() -> list[float]:
-    """The softening analysis's crest drop on the five meshes: its range, the observed value,
+    """The softening analysis's crest drop on the eight meshes: its range, the observed value,
     the largest shortfall [%] (within the case's bar, which every run reports), the bar [%]
-    and the change from the 4 m to the 3 m mesh [%]."""
+    and the change from the 4 m to the 3 m mesh and from the 2 m to the 1.5 m mesh [%]."""
     crest = [_soft_disc(n)["crest_drop_m"] for n in SOFT_MESHES]
     checks = [_json(f"docs/summaries/{n}.json")["checks"]["crest_drop"] for n in SOFT_MESHES]
     observed = ref.CARSINGTON_POST_FAILURE["crest_drop"][0]
     if not all(c["passed"] for c in checks):
         return [math.nan]
     return [min(crest), max(crest), observed, 100.0 * (1.0 - min(crest) / observed),
-            100.0 * checks[0]["bar"], 100.0 * abs(crest[4] / crest[3] - 1.0)]
+            100.0 * checks[0]["bar"], 100.0 * abs(crest[4] / crest[3] - 1.0),
+            100.0 * abs(crest[7] / crest[6] - 1.0)]
 
 
 def _cars_observed(name: str) -> list[float]:
@@ -614,6 +676,18 @@ def _punch_row(name: str) -> list[float]:
             disc["mean_bearing_pressure_kpa"], disc["bearing_pressure_last_fifth_kpa"],
             disc["final_settlement_m"], disc["max_heave_beside_footing_m"],
             disc["interfaces_failed"]]
+
+
+def _ur_change(name: str, key: str) -> float:
+    """Change [%] of a punch run's ``key`` with another u_r from the default punch (u_r 0.2 m)."""
+    assert _punch("h2_punch")["parameters"]["softening_displacement"] == 0.2
+    return 100.0 * (_punch(name)["discrete"][key] / _punch("h2_punch")["discrete"][key] - 1.0)
+
+
+def _ur_collapse(name: str) -> float:
+    """The continuum collapse load's change [%] of a punch run with another u_r."""
+    return 100.0 * (_punch(name)["continuum"]["collapse_pressure_kPa"]
+                    / _punch("h2_punch")["continuum"]["collapse_pressure_kPa"] - 1.0)
 
 
 def _punch_gap(a: str, b: str, key: str) -> float:

@@ -48,6 +48,25 @@ def test_deposit_counts_the_continuous_mass_only():
         deposit(st, np.ones(3, bool), bin_width=1.0, direction=0)
 
 
+def test_deposit_walks_from_the_wall_not_from_behind_it():
+    """A mass on both sides of its wall (a dam seen from its axis): a square flung far behind
+    the wall (x = -3..-2, the wall at x = 0.5) is no part of the deposit and does not cut it;
+    the walk starts with the square across the wall (0..1) and ends at the far edge of the
+    next (1..2): run-out 1.5 from the wall, nothing detached."""
+    from hybrid.discrete.state import from_mesh
+    from hybrid.materials import Material
+
+    sq = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float)
+    x = np.vstack([sq + [-3.0, 0.0], sq, sq + [1.0, 0.0]])
+    grain = Material(name="grain", E=1000.0, nu=0.3, density=1.0)
+    st = from_mesh(x, np.arange(12).reshape(3, 4), np.zeros(3, np.int32), [grain])
+    dep = deposit(st, np.ones(3, bool), wall_x=0.5, bin_width=1.0)
+    assert dep.runout == pytest.approx(1.5, abs=1e-12)
+    assert dep.detached == 0 and list(dep.elements) == [1, 2]
+    with pytest.raises(ValueError, match="no element of the mask lies on the side"):
+        deposit(st, np.array([True, False, False]), wall_x=0.5, bin_width=1.0)
+
+
 def test_granular_collapse_coarse(case, tmp_path):
     """Coarse grains (L0 / 8): a = 0.5 and a = 1.5 reach rest with bounded energy and their
     elements and mass; the taller column runs out further (normalised by L0) and keeps less of

@@ -25,7 +25,8 @@ from hybrid.discrete.state import DiscreteState
 
 import numba  # isort: skip
 
-__all__ = ["stable_time_step", "step", "prime", "kinetic_energy", "check_dt"]
+__all__ = ["stable_time_step", "damped_contact_step", "step", "prime", "kinetic_energy",
+           "check_dt"]
 
 
 @numba.njit(cache=True, parallel=True)
@@ -164,6 +165,48 @@ def _critical_dt(x, element_nodes, element_material, material_table, density, co
     return best
 
 
+@numba.njit(cache=True)
+def _damped_contact(x, element_nodes, element_material, contact_table, mass, fixed, dt):
+    """The damped contacts' stability at ``dt`` over the moving elements.
+
+    Returns (largest s^2 + 4 zeta s, its element, its t_c, the largest dt keeping it <= 1),
+    s = dt / t_c with t_c = sqrt(m_e / (k_n L_max)) an element's contact bound.
+    """
+    worst, at, t_at, dt_max = 0.0, -1, np.inf, np.inf
+    for e in range(element_nodes.shape[0]):
+        if element_held(element_nodes, fixed, e):
+            continue
+        lmax = step_lengths(x, element_nodes, e)[1]
+        me = 0.0
+        for a in range(element_nodes.shape[1]):
+            me += mass[element_nodes[e, a]]
+        m = element_material[e]
+        t_c = math.sqrt(me / (contact_table[m, 0] * lmax))
+        zeta = contact_table[m, 3]
+        s = dt / t_c
+        if s * s + 4.0 * zeta * s > worst:
+            worst, at, t_at = s * s + 4.0 * zeta * s, e, t_c
+        dt_max = min(dt_max, t_c * (math.sqrt(1.0 + 4.0 * zeta * zeta) - 2.0 * zeta))
+    return worst, at, t_at, dt_max
+
+
+def damped_contact_step(state: DiscreteState) -> float:
+    """Largest time step [s] at which the damped contacts are stable (inf: nothing moves).
+
+    Central differences with the damping force on the lagged velocity are stable for an
+    oscillator of frequency omega and damping ratio xi only while
+    dt <= (2 / omega) (sqrt(1 + xi^2) - xi) (Belytschko, Liu & Moran 2000, section 6.2).
+    A contact (``contact.law``: c_n = 2 zeta sqrt(k_n L_c m_eff)) acting on one node of an
+    element (a quarter of its mass) against a held or much heavier element has xi = 2 zeta
+    at most, with 2 / omega = t_c = sqrt(m_e / (k_n L_max)), the contact bound of
+    :func:`stable_time_step`: dt <= t_c (sqrt(1 + 4 zeta^2) - 2 zeta), i.e.
+    (dt / t_c)^2 + 4 zeta dt / t_c <= 1. At half the undamped bound (``RunOptions.safety``
+    0.5) that holds up to zeta = 0.375.
+    """
+    return float(_damped_contact(state.x, state.element_nodes, state.element_material,
+                                 state.contact_table, state.mass, state.fixed, 0.0)[3])
+
+
 def stable_time_step(state: DiscreteState, *, contact: bool | None = None) -> float:
     """Critical time step [s] of the central-difference scheme for this state.
 
@@ -187,13 +230,34 @@ def stable_time_step(state: DiscreteState, *, contact: bool | None = None) -> fl
 
 
 def check_dt(state: DiscreteState, dt: float, *, contact: bool | None = None) -> float:
-    """Validate a user time step: refuse dt above the stable limit, naming the limit."""
+    """Validate a time step, naming the limit and the remedy when it is refused.
+
+    Refused: dt above the stable limit, or with contact above the damped contacts' limit
+    (:func:`damped_contact_step`).
+    """
     crit = stable_time_step(state, contact=contact)
     if not (math.isfinite(dt) and dt > 0.0):
         raise ValueError(f"dt = {dt!r}: must be a finite positive number [s]")
     if dt > crit:
         raise ValueError(f"dt = {dt:.4g} s is above the stable time step {crit:.4g} s of this "
                          f"mesh/contact stiffness: use dt <= {crit:.4g} s (e.g. 0.5 x that)")
+    if contact is None:
+        assert state.contact_pairs is not None  # set in DiscreteState.__post_init__
+        contact = state.contact_pairs.shape[0] > 0
+    zeta = state.contact_table[:, 3]
+    if contact and np.all((zeta >= 0.0) & (zeta <= 1.0)):  # others: the run's input check
+        worst, e, t_c, dt_max = _damped_contact(state.x, state.element_nodes,
+                                                state.element_material, state.contact_table,
+                                                state.mass, state.fixed, dt)
+        if worst > 1.0:
+            m, s = int(state.element_material[e]), dt / t_c
+            raise ValueError(
+                f"contact damping ratio {state.contact_table[m, 3]:g} of material {m} is too "
+                f"high for dt = {dt:.4g} s: a damped contact is stable in the explicit scheme "
+                f"only while (dt/t_c)^2 + 4 zeta dt/t_c <= 1 (t_c its element's contact bound; "
+                f"integrate.damped_contact_step), here zeta <= {(1.0 - s * s) / (4.0 * s):.3g}. "
+                f"Lower the contact damping to that, or the time step to dt <= {dt_max:.4g} s "
+                f"(RunOptions(safety={dt_max / crit:.3g}) or a dt that small)")
     return crit
 
 

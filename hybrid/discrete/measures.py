@@ -365,18 +365,23 @@ def deposit(state: DiscreteState, elements: np.ndarray, *, wall_x: float = 0.0,
     the wall outwards: the union of the elements' x-extents, followed from the element nearest
     the wall until the first stretch of bare floor. An element flung beyond such a stretch is
     not part of it (``detached``), however far it went: the run-out is the far end of the
-    continuous mass.
+    continuous mass. Elements wholly behind the wall (a dam's downstream half, seen from its
+    axis spreading upstream) are neither: the walk starts at the wall's side of the mass, so
+    a gap behind the wall does not cut it.
     Distances count from the wall, ``direction`` * (x - ``wall_x``) (``direction`` 1: the mass
     spread towards +x; -1: towards -x), and from the floor (y - ``floor_y``) [m].
     """
-    idx = np.flatnonzero(np.asarray(elements, dtype=bool))
-    if idx.size == 0:
-        raise ValueError("deposit: no element in the mask (check the element set)")
     if not bin_width > 0.0:
         raise ValueError(f"deposit: bin_width = {bin_width!r} must be > 0 m")
     if direction not in (1, -1):
         raise ValueError(f"deposit: direction = {direction!r} must be 1 (towards +x) or -1")
+    idx = np.flatnonzero(np.asarray(elements, dtype=bool))
     xe = direction * (state.x[state.element_nodes[idx], 0] - wall_x)
+    ahead = xe.max(axis=1) > 0.0  # some of the element on the side the mass spreads to
+    idx, xe = idx[ahead], xe[ahead]
+    if idx.size == 0:
+        raise ValueError("deposit: no element of the mask lies on the side the mass spreads "
+                         "to (check the element set, wall_x and direction)")
     lo, hi = xe.min(axis=1), xe.max(axis=1)
     order = np.argsort(lo, kind="stable")
     reach = float(lo[order[0]])  # the deposit starts at the element nearest the wall
