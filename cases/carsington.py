@@ -84,7 +84,7 @@ from hybrid.continuum.limit_equilibrium import bishop_circle
 from hybrid.continuum.probe import evaluate
 from hybrid.continuum.staging import build_in_lifts, ground_stage, lift_materials, split_into_lifts
 from hybrid.continuum.strength_reduction import StrengthSearch
-from hybrid.discrete.integrate import stable_time_step
+from hybrid.discrete.integrate import default_dt
 from hybrid.discrete.measures import (
     Deposit,
     SlipSurface,
@@ -321,8 +321,7 @@ def main(out: str | Path = "results/carsington", **overrides) -> CaseSummary:
         return deposit(disc, zone["embankment"], bin_width=p.size, direction=-1)
 
     front_at_start = upstream_front()
-    options = RunOptions(dt=0.5 * stable_time_step(disc, contact=True), split_every=10,
-                         mass_damping=p.mass_damping)
+    options = RunOptions(dt=default_dt(disc), split_every=10, mass_damping=p.mass_damping)
     run = run_to_rest(disc, out, options, until_time=p.discrete_time, rest=p.rest,
                       frames=p.frames, snapshot_times=(1.0, 3.0, 6.0, 10.0), window=g.window(True),
                       progress=p.progress, material_names=hand.material_names)

@@ -150,9 +150,9 @@ class Contact:
             lands on another, carries c at once (a total-stress strength does not depend on
             the pressure).
         damping: viscous damping ratio zeta [-] of the normal spring (0 <= zeta <= 1; 0: none,
-            separated blocks rattle until mass damping stops them). The explicit step is stable
-            for it up to 0.375 at the default time step; a run refuses a larger one unless its
-            step is smaller (``hybrid.discrete.integrate.damped_contact_step`` gives the limit).
+            separated blocks rattle until mass damping stops them). Above about 0.34 it shortens
+            the time step the solver chooses, to keep the damped contacts stable
+            (``hybrid.discrete.integrate.damped_contact_step``).
     """
 
     normal_stiffness: float | None = None

@@ -45,32 +45,53 @@ def test_d5_block_dropped_on_two_blocks():
         assert abs(st.stress[row, :, 1].mean() / expected - 1.0) < 0.05
 
 
-def test_damped_contact_step_refuses_and_then_runs_critical_damping():
+def _d5_drop(zeta: float):
+    """D5's drop (a block on two base blocks, held at the base) with contact damping zeta."""
+    mat = Material(name="block", E=1.0e5, nu=0.3, density=2.0,
+                   contact=Contact(damping=zeta, phi=30.0))
+    st = blocks([(1.0, 1.0, 4, 4, (0.0, 0.0), 0), (1.0, 1.0, 4, 4, (1.2, 0.0), 0),
+                 (2.2, 0.5, 8, 2, (0.0, 1.05), 0)], [mat])
+    st.fix(np.isclose(st.x_ref[:, 1], 0.0))
+    return st
+
+
+def test_damped_contact_step_keeps_critical_damping_stable():
     """D5's drop with critically damped contacts (zeta = 1). Central differences with the
     damping on the lagged velocity are stable only while dt <= (2/omega)(sqrt(1 + xi^2) - xi)
     (Belytschko, Liu & Moran 2000, 6.2), and a contact on one node against a held element has
     xi = 2 zeta: the limit is t_c (sqrt(5) - 2) with t_c the contact bound, 0.236 t_c, below
     the default step (half of it), at which this drop blows up when let run (energy 3.1 x its
     sources by step 600; with zeta = 0.5 it buzzes without coming to rest in 200 000 steps).
-    The run refuses that step, naming the limit, and runs to rest within D5's energy bar at
-    0.95 x the limit."""
-    from hybrid.discrete.integrate import damped_contact_step, stable_time_step
+    A step given above the limit is refused, naming the limit, and the limit it names is
+    accepted; left to the solver, the step is 0.95 x the limit and the drop comes to rest
+    within D5's energy bar. With zeta = 0.3 the solver's step stays half the undamped bound."""
+    import re
 
-    mat = Material(name="block", E=1.0e5, nu=0.3, density=2.0,
-                   contact=Contact(damping=1.0, phi=30.0))
-    st = blocks([(1.0, 1.0, 4, 4, (0.0, 0.0), 0), (1.0, 1.0, 4, 4, (1.2, 0.0), 0),
-                 (2.2, 0.5, 8, 2, (0.0, 1.05), 0)], [mat])
-    st.fix(np.isclose(st.x_ref[:, 1], 0.0))
+    from hybrid.discrete.integrate import (
+        DAMPED_CONTACT_MARGIN,
+        damped_contact_step,
+        stable_time_step,
+    )
+    from hybrid.discrete.solver import ExplicitSolver, RunOptions
+
+    st = _d5_drop(1.0)
     t_c = stable_time_step(st, contact=True)
     assert t_c < stable_time_step(st, contact=False)  # the contact bound governs here
     limit = damped_contact_step(st)
     assert limit == pytest.approx(t_c * (math.sqrt(5.0) - 2.0), rel=1e-12)
-    with pytest.raises(ValueError, match=r"contact damping ratio 1 .* too high .* dt <= "):
-        run(st, until_rest=1e-6, max_steps=10, mass_damping=2.0)
-    res = run(st, until_rest=1e-6, max_steps=200000, mass_damping=2.0, check_every=200,
-              safety=0.95 * limit / t_c)
+    with pytest.raises(ValueError, match=r"contact damping ratio 1 .* too high") as refused:
+        run(st, until_rest=1e-6, max_steps=10, mass_damping=2.0, dt=0.5 * t_c)
+    named = float(re.search(r"give dt <= ([0-9.e+-]+) s", str(refused.value)).group(1))
+    assert limit * 0.999 < named <= limit
+    with ExplicitSolver(_d5_drop(1.0), RunOptions(dt=named)):
+        pass  # the step the message names is accepted
+    res = run(st, until_rest=1e-6, max_steps=200000, mass_damping=2.0, check_every=200)
+    assert st.dt == pytest.approx(DAMPED_CONTACT_MARGIN * limit, rel=1e-12)
     assert res.stop_reason == "rest"
     assert _energy_bounded(res, 0.01) <= 0.0
+    light = _d5_drop(0.3)
+    with ExplicitSolver(light, RunOptions()):
+        assert light.dt == 0.5 * stable_time_step(light, contact=True)
 
 
 def test_d6_loaded_block_on_tied_assembly():

@@ -25,8 +25,8 @@ from hybrid.discrete.state import DiscreteState
 
 import numba  # isort: skip
 
-__all__ = ["stable_time_step", "damped_contact_step", "step", "prime", "kinetic_energy",
-           "check_dt"]
+__all__ = ["stable_time_step", "damped_contact_step", "damped_contact_fault", "default_dt",
+           "DAMPED_CONTACT_MARGIN", "step", "prime", "kinetic_energy", "check_dt"]
 
 
 @numba.njit(cache=True, parallel=True)
@@ -138,6 +138,20 @@ def step_lengths(x, element_nodes, e):
 
 
 @numba.njit(cache=True)
+def contact_bound(x, element_nodes, element_material, contact_table, mass, e):
+    """Contact time-step bound of element e [s]: sqrt(m_e / (k_n L_max)).
+
+    That is 2 sqrt(m / k) of a quarter of its mass on the normal stiffness of an overlap
+    along its longest edge.
+    """
+    me = 0.0
+    for a in range(element_nodes.shape[1]):
+        me += mass[element_nodes[e, a]]
+    lmax = step_lengths(x, element_nodes, e)[1]
+    return math.sqrt(me / (contact_table[element_material[e], 0] * lmax))
+
+
+@numba.njit(cache=True)
 def _critical_dt(x, element_nodes, element_material, material_table, density, contact_table,
                  mass, with_contact, fixed):
     """Critical time step: the minimum over elements of L_min / c_p.
@@ -147,21 +161,17 @@ def _critical_dt(x, element_nodes, element_material, material_table, density, co
     not move and are skipped (a pair's k_n is the smaller of the two, so the moving element's
     own contact bound covers its contacts with them).
     """
-    ne = element_nodes.shape[0]
-    nen = element_nodes.shape[1]
     best = np.inf
-    for e in range(ne):
+    for e in range(element_nodes.shape[0]):
         if element_held(element_nodes, fixed, e):
             continue
-        lmin, lmax = step_lengths(x, element_nodes, e)
-        me = 0.0
-        for a in range(nen):
-            me += mass[element_nodes[e, a]]
+        lmin = step_lengths(x, element_nodes, e)[0]
         m = element_material[e]
         cp = math.sqrt((material_table[m, 0] + 4.0 * material_table[m, 1] / 3.0) / density[m])
         best = min(best, lmin / cp)
         if with_contact:
-            best = min(best, math.sqrt(me / (contact_table[m, 0] * lmax)))
+            best = min(best, contact_bound(x, element_nodes, element_material, contact_table,
+                                           mass, e))
     return best
 
 
@@ -176,13 +186,8 @@ def _damped_contact(x, element_nodes, element_material, contact_table, mass, fix
     for e in range(element_nodes.shape[0]):
         if element_held(element_nodes, fixed, e):
             continue
-        lmax = step_lengths(x, element_nodes, e)[1]
-        me = 0.0
-        for a in range(element_nodes.shape[1]):
-            me += mass[element_nodes[e, a]]
-        m = element_material[e]
-        t_c = math.sqrt(me / (contact_table[m, 0] * lmax))
-        zeta = contact_table[m, 3]
+        t_c = contact_bound(x, element_nodes, element_material, contact_table, mass, e)
+        zeta = contact_table[element_material[e], 3]
         s = dt / t_c
         if s * s + 4.0 * zeta * s > worst:
             worst, at, t_at = s * s + 4.0 * zeta * s, e, t_c
@@ -193,15 +198,17 @@ def _damped_contact(x, element_nodes, element_material, contact_table, mass, fix
 def damped_contact_step(state: DiscreteState) -> float:
     """Largest time step [s] at which the damped contacts are stable (inf: nothing moves).
 
-    Central differences with the damping force on the lagged velocity are stable for an
+    An estimate under the assumption of the contact bound of :func:`stable_time_step` (one
+    node, a quarter of the element's mass, on the stiffness of an overlap along the longest
+    edge). Central differences with the damping force on the lagged velocity are stable for an
     oscillator of frequency omega and damping ratio xi only while
     dt <= (2 / omega) (sqrt(1 + xi^2) - xi) (Belytschko, Liu & Moran 2000, section 6.2).
     A contact (``contact.law``: c_n = 2 zeta sqrt(k_n L_c m_eff)) acting on one node of an
     element (a quarter of its mass) against a held or much heavier element has xi = 2 zeta
     at most, with 2 / omega = t_c = sqrt(m_e / (k_n L_max)), the contact bound of
     :func:`stable_time_step`: dt <= t_c (sqrt(1 + 4 zeta^2) - 2 zeta), i.e.
-    (dt / t_c)^2 + 4 zeta dt / t_c <= 1. At half the undamped bound (``RunOptions.safety``
-    0.5) that holds up to zeta = 0.375.
+    (dt / t_c)^2 + 4 zeta dt / t_c <= 1. At half the contact bound that holds up to
+    zeta = 0.375.
     """
     return float(_damped_contact(state.x, state.element_nodes, state.element_material,
                                  state.contact_table, state.mass, state.fixed, 0.0)[3])
@@ -229,36 +236,65 @@ def stable_time_step(state: DiscreteState, *, contact: bool | None = None) -> fl
     return dt
 
 
-def check_dt(state: DiscreteState, dt: float, *, contact: bool | None = None) -> float:
-    """Validate a time step, naming the limit and the remedy when it is refused.
+#: a step chosen by :func:`default_dt` stays within this fraction of the damped contacts'
+#: stability limit (:func:`damped_contact_step`, itself a worst case: one node against a held
+#: element). Below 1 for a margin; at the default safety 0.5 it binds only above zeta = 0.34
+#: (0.95 (sqrt(1 + 4 zeta^2) - 2 zeta) < 0.5), so it changes no run with less damping.
+DAMPED_CONTACT_MARGIN = 0.95
 
-    Refused: dt above the stable limit, or with contact above the damped contacts' limit
-    (:func:`damped_contact_step`).
+
+def default_dt(state: DiscreteState, safety: float = 0.5, *, contact: bool = True) -> float:
+    """The step [s] a solver takes when given none.
+
+    ``safety`` x the stable step, and with contact at most ``DAMPED_CONTACT_MARGIN`` x the
+    damped contacts' limit.
     """
+    dt = safety * stable_time_step(state, contact=contact)
+    return min(dt, DAMPED_CONTACT_MARGIN * damped_contact_step(state)) if contact else dt
+
+
+def check_dt(state: DiscreteState, dt: float, *, contact: bool | None = None) -> float:
+    """Validate a user time step: refuse dt above the stable limit, naming the limit."""
     crit = stable_time_step(state, contact=contact)
     if not (math.isfinite(dt) and dt > 0.0):
         raise ValueError(f"dt = {dt!r}: must be a finite positive number [s]")
     if dt > crit:
         raise ValueError(f"dt = {dt:.4g} s is above the stable time step {crit:.4g} s of this "
                          f"mesh/contact stiffness: use dt <= {crit:.4g} s (e.g. 0.5 x that)")
-    if contact is None:
-        assert state.contact_pairs is not None  # set in DiscreteState.__post_init__
-        contact = state.contact_pairs.shape[0] > 0
-    zeta = state.contact_table[:, 3]
-    if contact and np.all((zeta >= 0.0) & (zeta <= 1.0)):  # others: the run's input check
-        worst, e, t_c, dt_max = _damped_contact(state.x, state.element_nodes,
-                                                state.element_material, state.contact_table,
-                                                state.mass, state.fixed, dt)
-        if worst > 1.0:
-            m, s = int(state.element_material[e]), dt / t_c
-            raise ValueError(
-                f"contact damping ratio {state.contact_table[m, 3]:g} of material {m} is too "
-                f"high for dt = {dt:.4g} s: a damped contact is stable in the explicit scheme "
-                f"only while (dt/t_c)^2 + 4 zeta dt/t_c <= 1 (t_c its element's contact bound; "
-                f"integrate.damped_contact_step), here zeta <= {(1.0 - s * s) / (4.0 * s):.3g}. "
-                f"Lower the contact damping to that, or the time step to dt <= {dt_max:.4g} s "
-                f"(RunOptions(safety={dt_max / crit:.3g}) or a dt that small)")
     return crit
+
+
+def _down(value: float, digits: int) -> float:
+    """``value`` rounded down to ``digits`` significant digits (a limit quoted safely)."""
+    if not value > 0.0:
+        return 0.0
+    q = 10.0 ** (math.floor(math.log10(value)) - digits + 1)
+    return math.floor(value / q) * q
+
+
+def damped_contact_fault(state: DiscreteState, dt: float) -> str | None:
+    """Why the damped contacts are unstable at ``dt`` (None: they are not).
+
+    The message names the largest damping ratio and time step that are stable
+    (:func:`damped_contact_step`), rounded down. Contact damping ratios outside [0, 1] are
+    left to the run's input check.
+    """
+    zeta = state.contact_table[:, 3]
+    if not np.all((zeta >= 0.0) & (zeta <= 1.0)):
+        return None
+    worst, e, t_c, dt_max = _damped_contact(state.x, state.element_nodes,
+                                            state.element_material, state.contact_table,
+                                            state.mass, state.fixed, dt)
+    if worst <= 1.0:
+        return None
+    m, s = int(state.element_material[e]), dt / t_c
+    zeta_max = _down((1.0 - s * s) / (4.0 * s), 3)
+    return (f"contact damping ratio {state.contact_table[m, 3]:g} of material {m} is too high "
+            f"for dt = {dt:.4g} s: a damped contact is stable in the explicit scheme only while "
+            "(dt/t_c)^2 + 4 zeta dt/t_c <= 1 (t_c its element's contact bound; "
+            f"integrate.damped_contact_step), here zeta <= {zeta_max:g}. "
+            f"Lower the contact damping to that, or give dt <= {_down(dt_max, 4):.4g} s (or no "
+            "dt: the solver then keeps its step within that limit)")
 
 
 def prime(state: DiscreteState) -> None:

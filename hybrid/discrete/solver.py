@@ -249,10 +249,15 @@ class ExplicitSolver:
             self._add_wall_forces = add_wall_forces
             self._wbuf = WallBuffers()
         dt = o.dt
-        if dt is None:
-            dt = state.dt if state.dt > 0.0 else o.safety * integrate.stable_time_step(
-                state, contact=self.contact)
+        if dt is None and state.dt > 0.0:  # a continued state: its step was checked
+            dt = state.dt
+        elif dt is None:  # the step chosen here, within the damped contacts' limit
+            dt = integrate.default_dt(state, o.safety, contact=self.contact)
         integrate.check_dt(state, float(dt), contact=self.contact)
+        if o.dt is not None and self.contact:  # a step given: the damped contacts stable?
+            fault = integrate.damped_contact_fault(state, float(dt))
+            if fault is not None:
+                raise ValueError(fault)
         self.dt = float(dt)
         state.dt = self.dt
         if not state.primed:
