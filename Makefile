@@ -71,6 +71,10 @@ docs: setup
 	    --overwrite || [ $$? -eq 4 ] || exit 1
 	$(PY) -m hybrid run cases/carsington.py --out $(DOCS_RUN)/carsington_last_lift --set progress=false \
 	    --set last_lift_parts=10 --set safety=false --set discrete_time=0 --overwrite
+	# the continuum stage on finer meshes (3 and 2 m elements)
+	for size in 3 2; do $(PY) -m hybrid run cases/carsington.py \
+	    --out $(DOCS_RUN)/carsington_size$$size --set progress=false --set safety=false \
+	    --set discrete_time=0 --set size=$$size --overwrite; done
 	# beyond the thesis: strain softening (u_r 0.5 m; 0.2 and 1 m; 0.5 m on 8, 5, 4, 3, 2.5, 2
 	# and 1.5 m elements)
 	for run in "softening 0.5 6" "softening_ur0.2 0.2 6" "softening_ur1 1.0 6" \
@@ -85,11 +89,14 @@ docs: setup
 	    --overwrite --set progress=false --set safety=false --set discrete_softening=true \
 	    || [ $$? -eq 4 ] || exit 1
 	# from the design height: the section with 30 m of yellow clay stands to the crest with
-	# Table 6.3; its discrete phase as it is and with softening
-	for run in "design_height" "design_height_softening --set discrete_softening=true"; do \
-	    set -- $$run; $(PY) -m hybrid run cases/carsington.py \
-	    --out $(DOCS_RUN)/carsington_$$1 --overwrite --set progress=false --set safety=false \
-	    --set yellow_clay_length=30 $$2 $$3 || [ $$? -eq 4 ] || exit 1; done
+	# Table 6.3; its discrete phase as it is and with softening (on 6, 4, 3 and 2 m elements)
+	for run in "design_height" "design_height_softening --set discrete_softening=true" \
+	    "design_height_softening_size4 --set discrete_softening=true --set size=4" \
+	    "design_height_softening_size3 --set discrete_softening=true --set size=3" \
+	    "design_height_softening_size2 --set discrete_softening=true --set size=2"; do \
+	    set -- $$run; name=$$1; shift; $(PY) -m hybrid run cases/carsington.py \
+	    --out $(DOCS_RUN)/carsington_$$name --overwrite --set progress=false --set safety=false \
+	    --set yellow_clay_length=30 "$$@" || [ $$? -eq 4 ] || exit 1; done
 	# the discrete phase's sensitivity to mass damping (default none; the thesis ran 3 /s)
 	for md in 0.5 3; do $(PY) -m hybrid run cases/carsington.py \
 	    --out $(DOCS_RUN)/carsington_damping$$md --overwrite --set progress=false \
@@ -132,12 +139,15 @@ docs: setup
 	    h2_punch_v0.125 h2_punch_v0.125_fine0.04 h2_punch_fine0.12 h2_punch_structured \
 	    h2_punch_ur0.1 h2_punch_ur0.4; do \
 	    cp $(DOCS_RUN)/$$c/summary.json docs/summaries/$$c.json; done
-	for c in h2 h3 d10 carsington carsington_last_lift carsington_softening \
+	for c in h2 h3 d10 carsington carsington_last_lift carsington_size3 carsington_size2 \
+	    carsington_softening \
 	    carsington_softening_ur0.2 carsington_softening_ur1 carsington_softening_size3 \
 	    carsington_softening_size4 carsington_softening_size5 carsington_softening_size8 \
 	    carsington_softening_size2.5 carsington_softening_size2 carsington_softening_size1.5 \
 	    carsington_damping0.5 carsington_damping3 carsington_discrete_softening \
-	    carsington_design_height carsington_design_height_softening; do \
+	    carsington_design_height carsington_design_height_softening \
+	    carsington_design_height_softening_size4 carsington_design_height_softening_size3 \
+	    carsington_design_height_softening_size2; do \
 	    cp $(DOCS_RUN)/$$c/summary.json docs/summaries/$$c.json; done
 	for f in end_of_construction_yielded end_of_construction_sigma_yy \
 	    end_of_construction_sigma_xx core_displacement_vs_fill_level discrete_final; do \

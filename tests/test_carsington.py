@@ -237,6 +237,20 @@ def test_carsington_two_meshes(case, tmp_path):
         assert fine[level] == pytest.approx(coarse[level], rel=0.15), level
 
 
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, raises=BarNotMet, reason=(
+    "not met: the 4.5 m mesh carries lift 4 whole (198 m OD) and collapses in lift 5, the 3 m "
+    "mesh collapses in lift 4 with 93 % of its weight carried (190 m OD carried): the collapse "
+    "lies close to the top of lift 4 and falls below it on refinement (docs/carsington.md)"))
+def test_carsington_fill_level_refined(case, tmp_path):
+    """The fill level carried (in whole lifts, Table 6.3) the same on the 4.5 m mesh and the
+    finer 3 m mesh: a lift top is the resolution of the figure, so no tolerance."""
+    levels = [case("carsington").main(out=tmp_path / f"size{size:g}", size=size, safety=False,
+                                      discrete_time=0.0, progress=False)["construction"][
+                                          "fill_level_m_od"] for size in (4.5, 3.0)]
+    assert_within(levels[1], levels[0], 0.0, "fill level carried on the 3 m mesh against 4.5 m")
+
+
 def test_carsington_softening_coarse(case, tmp_path):
     """Beyond the thesis, coarse mesh: with the strengths falling to residual the dam carries
     no more fill than with the thesis's perfectly plastic strengths (a residual is never above

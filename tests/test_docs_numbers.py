@@ -129,8 +129,8 @@ QUOTES: list[Quote] = [
     # --- docs/carsington.md ----------------------------------------------------------------
     ("docs/carsington.md", "| 6 (default) | {} | default",
      lambda: [carsington()["mesh"]["cells"]]),
-    ("docs/carsington.md", "**The section carries the fill to {} m OD and collapses in the last "
-     "lift** ({} % of its weight carried;",
+    ("docs/carsington.md", "**On this mesh the section carries the fill to {} m OD and collapses "
+     "in the last lift** ({} % of its weight carried;",
      lambda: [carsington()["construction"]["fill_level_m_od"],
               100 * carsington()["construction"]["collapsing_lift"]["weight_carried"]]),
     ("docs/carsington.md", "| core at node A, 198 m OD | about 150 mm | {} mm ({} mm at 190 m OD)",
@@ -169,6 +169,22 @@ QUOTES: list[Quote] = [
      "to the crest) | {} | {} | {} | {} |",
      lambda: [_json("docs/summaries/carsington_design_height.json")["parameters"][
          "yellow_clay_length"], *_cars_discrete("carsington_design_height")]),
+    ("docs/carsington.md", "| 6 | {} | {} | {} | {} | yes | {} |\n"
+     "  | 4 | {} | {} | {} | {} | no | {} |\n  | 3 | {} | {} | {} | {} | no | {} |\n"
+     "  | 2 | {} | {} | {} | {} | no | {} |",
+     lambda: [v for n in DESIGN_HEIGHT_MESHES for v in _design_height_row(n)]),
+    ("docs/carsington.md", "shoulder runs out {} m, the crest drops {} m: both within {} % of the "
+     "observed slide on this mesh, **but not on finer ones**",
+     lambda: [*_cars_discrete("carsington_design_height_softening")[:2], 30.0]),
+    ("docs/carsington.md", "On the 4 and 3 m meshes the toe advances about half the observed {} m "
+     "(the toe {} % apart, the crest drop {} %), with no crack from the crest; on the 2 m mesh "
+     "the section with {} m of yellow clay no longer stands to the crest (lift {}, to {} m OD, "
+     "{} % of its weight carried), so that run starts from {} m OD",
+     lambda: [12.0, *(100.0 * _rel_spread([_soft_disc(n)[k] for n in DESIGN_HEIGHT_MESHES[1:3]])
+                      for k in ("toe_runout_m", "crest_drop_m")),
+              _json("docs/summaries/carsington_design_height_softening_size2.json")[
+                  "parameters"]["yellow_clay_length"],
+              *_collapse_of("carsington_design_height_softening_size2")]),
     ("docs/carsington.md", "| from the design height, softening in the discrete phase | {} | {} | "
      "{} | {} |", lambda: _cars_discrete("carsington_design_height_softening")),
     ("docs/carsington.md", "| upstream toe movement | not measured | {} m (bar {} %: not met) |",
@@ -194,6 +210,13 @@ QUOTES: list[Quote] = [
      "**{} m OD**, collapse in the last lift; in {} m lifts, collapse at {} m OD",
      lambda: [carsington()["construction"]["fill_level_m_od"], _cars_collapse()[0],
               _cars_collapse()[4]]),
+    ("docs/carsington.md", "| 6 (default) | {} | {} | lift {} (to {}), {} % | {} | {} |\n"
+     "| 3 | {} | {} | lift {} (to {}), {} % | {} | {} |\n| 2 | {} | {} | lift {} (to {}), {} % | "
+     "{} | {} |", lambda: [v for n in ("carsington", "carsington_size3", "carsington_size2")
+                           for v in _continuum_mesh_row(n)]),
+    ("docs/carsington.md", "Node A agrees within {} % at 190 m OD on the three meshes",
+     lambda: [100.0 * _rel_spread([_continuum_mesh_row(n)[-1] for n in (
+         "carsington", "carsington_size3", "carsington_size2")])]),
     ("docs/carsington.md", "| the core's axis at the foundation level | {} | {} | {} | {} |",
      lambda: _node_a("axis_foundation_level")),
     ("docs/carsington.md", "| the core's axis at the top of the boot (default) | {} | {} | {} | "
@@ -576,6 +599,42 @@ SOFT_MESHES = ("carsington_softening_size8", "carsington_softening",
                "carsington_softening_size5", "carsington_softening_size4",
                "carsington_softening_size3", "carsington_softening_size2.5",
                "carsington_softening_size2", "carsington_softening_size1.5")
+
+
+# the design-height analysis with softening in the discrete phase on the 6, 4, 3 and 2 m meshes
+DESIGN_HEIGHT_MESHES = ("carsington_design_height_softening",
+                        "carsington_design_height_softening_size4",
+                        "carsington_design_height_softening_size3",
+                        "carsington_design_height_softening_size2")
+
+
+def _design_height_row(name: str) -> list[float]:
+    """Cells, fill level, toe, crest drop and failed interfaces of a design-height run; the
+    crack column is checked here against the run's crack_at_crest check."""
+    d = _json(f"docs/summaries/{name}.json")
+    found = d["checks"]["crack_at_crest"]["passed"]
+    assert found == (name == DESIGN_HEIGHT_MESHES[0]), name  # "yes" on 6 m, "no" on the others
+    disc = d["discrete"]
+    return [d["mesh"]["cells"], d["construction"]["fill_level_m_od"], disc["toe_runout_m"],
+            disc["crest_drop_m"], disc["interfaces_failed"]]
+
+
+def _collapse_of(name: str) -> list[float]:
+    """Collapsing lift, its top, the weight carried [%] and the fill level carried of a run."""
+    c = _json(f"docs/summaries/{name}.json")["construction"]
+    lift = c["collapsing_lift"]
+    return [lift["lift"], lift["top_m_OD"], 100.0 * lift["weight_carried"], c["fill_level_m_od"]]
+
+
+def _continuum_mesh_row(name: str) -> list[float]:
+    """Cells, fill level carried, collapsing lift (number, top, weight [%]), the level at that
+    weight and node A at 190 m OD [mm] of a Carsington run (Table 6.3)."""
+    d = _json(f"docs/summaries/{name}.json")
+    c = d["construction"]
+    lift = c["collapsing_lift"]
+    node_a = dict((level, ux) for level, ux in d["core_displacement_mm"]["by_fill_level"])
+    return [d["mesh"]["cells"], c["fill_level_m_od"], lift["lift"], lift["top_m_OD"],
+            100.0 * lift["weight_carried"], c["stages"][-1]["fill_level_m_OD"], node_a[190.0]]
 
 
 def _soft_sizes(names: tuple[str, ...] | list[str]) -> list[float]:
