@@ -74,7 +74,7 @@ docs: setup
 	# the continuum stage on finer meshes (3 and 2 m elements)
 	for size in 3 2; do $(PY) -m hybrid run cases/carsington.py \
 	    --out $(DOCS_RUN)/carsington_size$$size --set progress=false --set safety=false \
-	    --set discrete_time=0 --set size=$$size --overwrite; done
+	    --set discrete_time=0 --set size=$$size --overwrite || exit 1; done
 	# beyond the thesis: strain softening (u_r 0.5 m; 0.2 and 1 m; 0.5 m on 8, 5, 4, 3, 2.5, 2
 	# and 1.5 m elements)
 	for run in "softening 0.5 6" "softening_ur0.2 0.2 6" "softening_ur1 1.0 6" \

@@ -64,7 +64,8 @@ def test_damped_contact_step_keeps_critical_damping_stable():
     sources by step 600; with zeta = 0.5 it buzzes without coming to rest in 200 000 steps).
     A step given above the limit is refused, naming the limit, and the limit it names is
     accepted; left to the solver, the step is 0.95 x the limit and the drop comes to rest
-    within D5's energy bar. With zeta = 0.3 the solver's step stays half the undamped bound."""
+    within D5's energy bar. With zeta = 0.3 the solver's step stays half the undamped bound. A
+    state continued from a run without contact is checked against the limit too."""
     import re
 
     from hybrid.discrete.integrate import (
@@ -92,6 +93,12 @@ def test_damped_contact_step_keeps_critical_damping_stable():
     light = _d5_drop(0.3)
     with ExplicitSolver(light, RunOptions()):
         assert light.dt == 0.5 * stable_time_step(light, contact=True)
+    # a state continued from a run without contact keeps its step: checked against the limit
+    settled = _d5_drop(1.0)
+    with ExplicitSolver(settled, RunOptions(contact=False, dt=0.5 * t_c)):
+        pass  # no contact: no damped limit
+    with pytest.raises(ValueError, match=r"contact damping ratio 1 .* too high"):
+        ExplicitSolver(settled, RunOptions())
 
 
 def test_d6_loaded_block_on_tied_assembly():

@@ -239,7 +239,8 @@ def stable_time_step(state: DiscreteState, *, contact: bool | None = None) -> fl
 #: a step chosen by :func:`default_dt` stays within this fraction of the damped contacts'
 #: stability limit (:func:`damped_contact_step`, itself a worst case: one node against a held
 #: element). Below 1 for a margin; at the default safety 0.5 it binds only above zeta = 0.34
-#: (0.95 (sqrt(1 + 4 zeta^2) - 2 zeta) < 0.5), so it changes no run with less damping.
+#: (0.95 (sqrt(1 + 4 zeta^2) - 2 zeta) < 0.5), so it changes no such run with less damping
+#: (with safety above 0.95 it binds even without damping).
 DAMPED_CONTACT_MARGIN = 0.95
 
 
@@ -254,7 +255,7 @@ def default_dt(state: DiscreteState, safety: float = 0.5, *, contact: bool = Tru
 
 
 def check_dt(state: DiscreteState, dt: float, *, contact: bool | None = None) -> float:
-    """Validate a user time step: refuse dt above the stable limit, naming the limit."""
+    """Validate a time step: refuse dt above the (undamped) stable limit, naming the limit."""
     crit = stable_time_step(state, contact=contact)
     if not (math.isfinite(dt) and dt > 0.0):
         raise ValueError(f"dt = {dt!r}: must be a finite positive number [s]")
@@ -269,7 +270,7 @@ def _down(value: float, digits: int) -> float:
     if not value > 0.0:
         return 0.0
     q = 10.0 ** (math.floor(math.log10(value)) - digits + 1)
-    return math.floor(value / q) * q
+    return math.nextafter(math.floor(value / q) * q, 0.0)  # below, were it the value itself
 
 
 def damped_contact_fault(state: DiscreteState, dt: float) -> str | None:

@@ -81,9 +81,10 @@ class RunOptions:
         dt: time step [s]; None reuses ``state.dt`` (a continued state) or takes
             ``integrate.default_dt``: ``safety`` times the stable step, and with contact at
             most 0.95 times the damped contacts' limit (``integrate.damped_contact_step``). A
-            dt above the stable step, or a dt given here above the damped contacts' limit, is
-            refused.
-        safety: fraction of the stable time step when dt is None, in (0, 1] [-].
+            dt above the stable step, or one given here or continued above the damped
+            contacts' limit, is refused.
+        safety: fraction of the stable time step when dt is None, in (0, 1] [-] (the damped
+            contacts' limit may take the step lower).
         mass_damping: alpha of the mass-proportional damping C = alpha M [1/s] (thesis eq
             3.12), >= 0.
         local_damping: Cundall's local non-viscous damping d in [0, 1) [-] (quasi-static

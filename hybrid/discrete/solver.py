@@ -249,12 +249,13 @@ class ExplicitSolver:
             self._add_wall_forces = add_wall_forces
             self._wbuf = WallBuffers()
         dt = o.dt
-        if dt is None and state.dt > 0.0:  # a continued state: its step was checked
-            dt = state.dt
-        elif dt is None:  # the step chosen here, within the damped contacts' limit
+        chosen = dt is None and not state.dt > 0.0  # else given, or a continued state's
+        if chosen:  # within the damped contacts' limit
             dt = integrate.default_dt(state, o.safety, contact=self.contact)
+        elif dt is None:
+            dt = state.dt
         integrate.check_dt(state, float(dt), contact=self.contact)
-        if o.dt is not None and self.contact:  # a step given: the damped contacts stable?
+        if self.contact and not chosen:  # the damped contacts stable at a step not chosen here?
             fault = integrate.damped_contact_fault(state, float(dt))
             if fault is not None:
                 raise ValueError(fault)
