@@ -70,11 +70,22 @@ docs: setup
 	$(PY) -m hybrid run cases/carsington.py --out $(DOCS_RUN)/carsington --set progress=false \
 	    --overwrite || [ $$? -eq 4 ] || exit 1
 	$(PY) -m hybrid run cases/carsington.py --out $(DOCS_RUN)/carsington_last_lift --set progress=false \
-	    --set last_lift_parts=10 --set safety=false --set discrete_time=0 --overwrite
+	    --set parts_above=198 --set part_height=0.25 --set safety=false --set discrete_time=0 \
+	    --overwrite
 	# the continuum stage on finer meshes (3 and 2 m elements)
 	for size in 3 2; do $(PY) -m hybrid run cases/carsington.py \
 	    --out $(DOCS_RUN)/carsington_size$$size --set progress=false --set safety=false \
 	    --set discrete_time=0 --set size=$$size --overwrite || exit 1; done
+	# the fill level of the collapse on 6, 4.5, 3 and 2 m elements: the fill above 194 m OD
+	# placed in parts of 0.5 m
+	for size in 6 4.5 3 2; do $(PY) -m hybrid run cases/carsington.py \
+	    --out $(DOCS_RUN)/carsington_parts_size$$size --set progress=false --set safety=false \
+	    --set discrete_time=0 --set size=$$size --set parts_above=194 --set part_height=0.5 \
+	    --overwrite || exit 1; done
+	# the 3 m mesh's stop again with a least increment ten times smaller
+	$(PY) -m hybrid run cases/carsington.py --out $(DOCS_RUN)/carsington_parts_size3_increment1e-4 \
+	    --set progress=false --set safety=false --set discrete_time=0 --set size=3 \
+	    --set parts_above=194 --set part_height=0.5 --set min_increment=1e-4 --overwrite
 	# beyond the thesis: strain softening (u_r 0.5 m; 0.2 and 1 m; 0.5 m on 8, 5, 4, 3, 2.5, 2
 	# and 1.5 m elements)
 	for run in "softening 0.5 6" "softening_ur0.2 0.2 6" "softening_ur1 1.0 6" \
@@ -140,6 +151,8 @@ docs: setup
 	    h2_punch_ur0.1 h2_punch_ur0.4; do \
 	    cp $(DOCS_RUN)/$$c/summary.json docs/summaries/$$c.json; done
 	for c in h2 h3 d10 carsington carsington_last_lift carsington_size3 carsington_size2 \
+	    carsington_parts_size6 carsington_parts_size4.5 carsington_parts_size3 carsington_parts_size2 \
+	    carsington_parts_size3_increment1e-4 \
 	    carsington_softening \
 	    carsington_softening_ur0.2 carsington_softening_ur1 carsington_softening_size3 \
 	    carsington_softening_size4 carsington_softening_size5 carsington_softening_size8 \

@@ -23,7 +23,8 @@ Set-up
     displacements zeroed. Stages 2-6: five lifts (``lift_tops``) placed stress-free, their
     weight ramped in (``build_in_lifts``), to the crest or to the first lift whose full weight
     finds no equilibrium (the collapse: the fill level carried is the last complete lift's top;
-    ``last_lift_parts`` places the last lift in parts). After each complete lift: node A's
+    ``parts_above`` places the fill above a level in parts; whether the displacement ran away is
+    in ``collapsing_lift``). After each complete lift: node A's
     horizontal displacement (``node_a_x``, ``node_a_y``; also ``Section.node_a_candidates``) and
     F by strength reduction. Discrete phase: the end of construction, or the last complete lift
     with the collapsing one placed whole, handed over (every bond may fail where its strength
@@ -109,7 +110,7 @@ EMBANKMENT = ("core", "zone_I", "zone_II", "berm")  # built in lifts
 GROUND = ("foundation", "yellow_clay")  # in place before construction
 CREST_DEPTH = 0.1  # a crack at the crest has an end within this of the crest's top [m]
 SECTION = ("yellow_clay_thickness", "yellow_clay_length", "boot_length", "lifts",
-           "last_lift_parts")
+           "parts_above", "part_height")
 
 # the section and the strengths it is built with (Table 6.3, no factor on them)
 BUILT_AS_PUBLISHED = (*SECTION, *(f.name for f in fields(references.CarsingtonTable63)),
@@ -134,7 +135,8 @@ class Parameters(references.CarsingtonTable62, references.CarsingtonTable63):
     cells: str = param("quadrilateral", choices=CELLS)  # or "triangle"
     degree: int = param(2, choices=(1, 2))  # displacement order
     lifts: int = param(5, ge=1)  # lifts after the foundation's stage (thesis: 6 stages in all)
-    last_lift_parts: int = param(1, ge=1)  # the last lift placed in equal parts (collapse level)
+    parts_above: float | None = param(None, gt=0)  # fill above this level [m OD] placed in
+    part_height: float = param(0.5, gt=0)  # parts at most this high [m] (a collapse's level)
     yellow_clay_thickness: float = param(1.5, gt=0)  # [m] (published 1-2 m)
     yellow_clay_length: float | None = param(36.0, gt=0)  # from the boot [m] (None: toe + 30 m)
     boot_length: float = param(35.0, gt=0)  # upstream end of the boot from the axis [m] (assumed)
@@ -217,7 +219,8 @@ def main(out: str | Path = "results/carsington", **overrides) -> CaseSummary:
     g = section_module().Section(**p.pick(SECTION))  # the modelled section's dimensions
     base_mesh = build_mesh(section_module().build, size=p.size, layer_size=p.layer_size,
                            cells=p.cells, **p.pick(SECTION))
-    tops = section_module().lift_tops(g.crest_level, g.berm_top, p.lifts, p.last_lift_parts)
+    tops = section_module().lift_tops(g.crest_level, g.berm_top, p.lifts, p.parts_above,
+                                      p.part_height)
     mesh = split_into_lifts(base_mesh, EMBANKMENT, tops)
     model = Model(mesh, lift_materials(mesh, materials(p)),
                   supports=[Fixed("base"), Roller("left", "x"), Roller("right", "x")])

@@ -16,6 +16,7 @@ elevation (``hybrid.continuum.staging.split_into_lifts``; the boot in the key tr
 1; the foundation and the yellow clay are in place before construction).
 """
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -60,8 +61,10 @@ class Section:
         margin: foundation modelled beyond each toe [m] (assumed: about one base width).
         lifts: construction lifts after the foundation's stage (thesis: six stages, the
             foundation and five lifts; :func:`lift_tops`).
-        last_lift_parts: the last lift placed in this many equal parts (1: whole; more: the
-            fill level at a collapse in the last lift found more finely).
+        parts_above: the fill above this level [m OD] placed in parts at most
+            ``part_height`` high (None: whole lifts): the fill level of a collapse found more
+            finely (:func:`lift_tops`).
+        part_height: the largest part's height above ``parts_above`` [m].
     """
 
     crest_level: float = 200.5
@@ -85,15 +88,18 @@ class Section:
     foundation_depth: float = 40.0
     margin: float = 200.0
     lifts: int = 5
-    last_lift_parts: int = 1
+    parts_above: float | None = None
+    part_height: float = 0.5
 
     def __post_init__(self) -> None:
         if not self.foundation_level < self.berm_top - self.berm_height < self.berm_top \
                 < self.crest_level:
             raise ValueError("levels must rise: foundation <= ground under berm < berm top "
                              "< crest")
-        if self.lifts < 1 or self.last_lift_parts < 1:
-            raise ValueError("at least one lift, and the last one in at least one part")
+        if self.lifts < 1:
+            raise ValueError("at least one lift")
+        lift_tops(self.crest_level, self.berm_top, self.lifts, self.parts_above,
+                  self.part_height)  # the parts checked here, before a mesh is built
         for name in ("crest_width", "upstream_slope", "downstream_slope", "core_top_width",
                      "trench_depth", "boot_height", "zone_I_slope", "berm_width",
                      "yellow_clay_thickness", "foundation_depth", "margin"):
@@ -206,15 +212,19 @@ HISTORY_LEVELS = (182.0, 190.0, 198.0)
 
 
 def lift_tops(crest_level: float = 200.5, berm_top: float = 175.6, lifts: int = 5,
-              last_lift_parts: int = 1) -> list[float]:
+              parts_above: float | None = None, part_height: float = 0.5) -> list[float]:
     """Top elevation of each construction lift [m OD].
 
     The thesis's six stages are the foundation and five lifts (6.3.1.1). Five lifts (the
     default): the berm top, :data:`HISTORY_LEVELS`, the crest; the first lift brings the
     fill to the berm top with the berm (an assumption: the berm was built in 1983, with the
     fill at 190 m OD; stage 1 keeps it whole). Any other number: the first lift to the berm
-    top, then equal lifts to the crest. ``last_lift_parts``: the last lift cut into this
-    many equal lifts.
+    top, then equal lifts to the crest.
+
+    ``parts_above`` (from the berm top to below the crest): each lift's fill above this
+    level is placed in equal parts at most ``part_height`` [m] high (the lift is cut at
+    ``parts_above`` first), so that a collapse is found at that resolution; the lift tops
+    stay among the tops.
     """
     if lifts == 1:
         tops = [crest_level]
@@ -227,12 +237,24 @@ def lift_tops(crest_level: float = 200.5, berm_top: float = 175.6, lifts: int = 
     else:
         dh = (crest_level - berm_top) / (lifts - 1)
         tops = [berm_top + k * dh for k in range(lifts - 1)] + [crest_level]
-    if last_lift_parts == 1:
+    if parts_above is None:
         return tops
-    if len(tops) == 1:
-        raise ValueError("last_lift_parts > 1 needs two lifts at least (or last_lift_parts=1)")
-    dh = (crest_level - tops[-2]) / last_lift_parts
-    return tops[:-1] + [tops[-2] + k * dh for k in range(1, last_lift_parts)] + [crest_level]
+    if not (lifts > 1 and berm_top <= parts_above < crest_level and part_height > 0):
+        raise ValueError(f"parts_above = {parts_above} m OD must lie from the berm top "
+                         f"({berm_top:g}) to below the crest ({crest_level:g}), with two lifts "
+                         f"at least and part_height = {part_height} m > 0 (or parts_above "
+                         "None: whole lifts)")
+    parts = [tops[0]]
+    for bottom, top in zip(tops[:-1], tops[1:]):
+        start = max(bottom, float(parts_above))
+        if start >= top:  # the lift lies wholly below the parts
+            parts.append(top)
+            continue
+        if start > bottom:
+            parts.append(start)
+        count = math.ceil((top - start) / part_height - 1e-9)
+        parts += [start + k * ((top - start) / count) for k in range(1, count)] + [top]
+    return parts
 
 
 def _polygon(occ, points: list[tuple[float, float]]) -> int:
@@ -302,7 +324,7 @@ def build(gmsh, size: float = 6.0, far_size: float | None = None,
                                          removeTool=False)
     regions["zone_II"], _ = occ.cut(regions["zone_II"], regions["zone_I"], removeTool=False)
     # lift tops: horizontal bands cut every region into lifts
-    tops = lift_tops(s.crest_level, s.berm_top, s.lifts, s.last_lift_parts)
+    tops = lift_tops(s.crest_level, s.berm_top, s.lifts, s.parts_above, s.part_height)
     xl, xr, yb = s.extent
     bands = [(2, occ.addRectangle(xl - 1.0, tops[k], 0, xr - xl + 2.0, tops[k + 1] - tops[k]))
              for k in range(len(tops) - 1)]

@@ -227,6 +227,22 @@ QUOTES: list[Quote] = [
     ("docs/carsington.md", "on the finer meshes the collapse comes at about {}-{} m OD by that "
      "measure", lambda: [_continuum_mesh_row(n)[5] for n in ("carsington_size2",
                                                             "carsington_size3")]),
+    ("docs/carsington.md", "\n".join(["| {} | {} | {} | to {}, {} % | {} | {} | {} |"] * 4),
+     lambda: [v for n in PARTS_MESHES for v in _parts_row(n)]),
+    ("docs/carsington.md", "fails in the part to {} m OD, at {} and {} m OD by the weight "
+     "carried ({} m apart", lambda: [_parts_row(PARTS_MESHES[2])[3],
+                                     *(_parts_row(n)[5] for n in PARTS_MESHES[2:]),
+                                     abs(_parts_row(PARTS_MESHES[3])[5]
+                                         - _parts_row(PARTS_MESHES[2])[5])]),
+    ("docs/carsington.md", "the section carries the fill to {} m OD and fails", lambda: [
+        _parts_row(PARTS_MESHES[2])[2]] * (_parts_row(PARTS_MESHES[2])[2:4]
+                                            == _parts_row(PARTS_MESHES[3])[2:4])),
+    ("docs/carsington.md", "The coarser meshes overstate it ({} m OD on the 6 m mesh)",
+     lambda: [_parts_row(PARTS_MESHES[0])[5]]),
+    ("docs/carsington.md", "the 3 m mesh stops at {} % of the part's weight against {} %",
+     lambda: [100.0 * _json(f"docs/summaries/{n}.json")["construction"]["collapsing_lift"][
+         "weight_carried"] for n in ("carsington_parts_size3_increment1e-4",
+                                     "carsington_parts_size3")]),
     ("docs/carsington.md", "Node A agrees within {} % at 190 m OD on the three meshes",
      lambda: [100.0 * _rel_spread([_continuum_mesh_row(n)[-1] for n in (
          "carsington", "carsington_size3", "carsington_size2")])]),
@@ -640,6 +656,21 @@ def _continuum_mesh_row(name: str) -> list[float]:
     node_a = dict((level, ux) for level, ux in d["core_displacement_mm"]["by_fill_level"])
     return [d["mesh"]["cells"], c["fill_level_m_od"], lift["lift"], lift["top_m_OD"],
             100.0 * lift["weight_carried"], c["stages"][-1]["fill_level_m_OD"], node_a[190.0]]
+
+
+PARTS_MESHES = ("carsington_parts_size6", "carsington_parts_size4.5", "carsington_parts_size3",
+                "carsington_parts_size2")
+
+
+def _parts_row(name: str) -> list[float]:
+    """Size, cells, fill level carried, the collapsing part's top, its weight carried [%], the
+    level at that weight, the run-away ratio and node A at 190 m OD [mm] (fill in parts)."""
+    d = _json(f"docs/summaries/{name}.json")
+    c, node_a = d["construction"], dict(map(tuple, d["core_displacement_mm"]["by_fill_level"]))
+    lift = c["collapsing_lift"]
+    return [d["parameters"]["size"], d["mesh"]["cells"], c["fill_level_m_od"], lift["top_m_OD"],
+            100.0 * lift["weight_carried"], c["stages"][-1]["fill_level_m_OD"],
+            lift["runaway_ratio"], node_a[190.0]]
 
 
 def _soft_sizes(names: tuple[str, ...] | list[str]) -> list[float]:

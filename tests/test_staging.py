@@ -7,9 +7,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from hybrid.continuum import NewtonOptions
 from hybrid.continuum.analysis import at_rest_checks
 from hybrid.continuum.plastic import PlasticSolver
 from hybrid.continuum.staging import (
+    RUNAWAY_JUMP,
+    Construction,
     build_in_lifts,
     lift_groups,
     lift_materials,
@@ -143,17 +146,56 @@ def test_construction_after_a_collapse(column):
     _, mesh, solver, built = column
     assert built.level_carried == 4.0 and built.collapse is None
     assert built.history("lift") == [(3.0, 1), (4.0, 2)]
-    stages = [built.stages[0], {**built.stages[1], "completed": False, "weight_placed": 0.4}]
+    stages = [built.stages[0], {**built.stages[1], "completed": False, "weight_placed": 0.4,
+                                "runaway_ratio": 50.0, "softening": False}]
     collapsed = dataclasses.replace(built, stages=stages, completed=False,
                                     before_collapse=solver.snapshot())
     assert collapsed.level_carried == 3.0
-    assert collapsed.collapse == {"lift": 2, "top_m": 4.0, "weight_carried": 0.4}
+    assert collapsed.collapse == {"lift": 2, "top_m": 4.0, "weight_carried": 0.4,
+                                  "runaway_ratio": 50.0, "runaway": True, "softening": False}
+    slow = dataclasses.replace(collapsed, stages=[stages[0], {**stages[1], "runaway_ratio": 2.0}])
+    assert slow.collapse["runaway"] is False
     assert collapsed.history("lift") == [(3.0, 1)]
     state = collapsed.last_equilibrium(solver, mesh)
     assert np.flatnonzero(~state.active).tolist() == sorted(mesh.cells("lift2:2"))
     assert solver.active.all()
     none = dataclasses.replace(collapsed, stages=[{**stages[0], "completed": False}])
     assert none.level_carried == 2.0  # the base level: no lift carried
+
+
+def free_column(cohesion: float, **newton) -> tuple[PlasticSolver, Construction]:
+    """A 2 m wide, 4 m high column of clay (phi = 0) free at both sides on a fixed base:
+    2 m in place under gravity, then two lifts of 1 m."""
+    base = build_mesh(load_builder(MESHES / "layers.py"), width=2.0, lift_thickness=2.0,
+                      lifts=2)
+    mesh = split_into_lifts(base, ["lift2"], [3.0, 4.0])
+    clay = Material(name="clay", E=E, nu=NU, unit_weight=GAMMA, cohesion=cohesion, phi=0.0)
+    model = Model(mesh, dict.fromkeys(mesh.cell_groups, clay), supports=[Fixed("base")])
+    solver = PlasticSolver(model, degree=2, options=NewtonOptions(**newton))
+    solver.set_active(["lift1"])
+    solver.apply_gravity(steps=2).require()
+    solver.reset_displacement()
+    return solver, build_in_lifts(solver, mesh, [3.0, 4.0], 2.0, steps=2)
+
+
+def test_a_lift_that_stops_short_says_whether_it_ran_away():
+    """A free-standing clay column fails in unconfined compression near gamma H = 2 c k, k
+    somewhat above 1 from the fixed base: with c = 24 kPa 3 m stand (60 kPa at the base)
+    and the lift to 4 m collapses, its displacement running away (metres against millimetres
+    at the start: the path recorded). With c = 32 kPa the 4 m stand, but Newton allowed 2
+    iterations stops the plastic lift short without a run-away: a stall, said as such."""
+    _, collapsed = free_column(24.0)
+    assert collapsed.level_carried == 3.0 and collapsed.collapse["lift"] == 2
+    assert 0.5 < collapsed.collapse["weight_carried"] < 1.0
+    assert collapsed.collapse["runaway_ratio"] > 100.0  # thousands here
+    assert collapsed.collapse["runaway"] and not collapsed.collapse["softening"]
+    path = collapsed.stages[-1]["path"]
+    assert path[0] == [0.0, 0.0] and path[-1][0] == collapsed.collapse["weight_carried"]
+    assert path[-1][1] > 1.0 > 100 * path[1][1]
+    _, stalled = free_column(32.0, max_iterations=2)
+    assert stalled.collapse["runaway_ratio"] < RUNAWAY_JUMP
+    assert not stalled.collapse["runaway"]
+    assert free_column(32.0)[1].completed  # with Newton's default
 
 
 def test_construction_and_safety_figures(column, tmp_path):

@@ -37,6 +37,9 @@ class Analysis:
         cuts: increments halved on the way.
         stage: what was applied, in words ("self-weight", "load", "lift 'fill_2'").
         target: the factor asked for.
+        path: (factor, largest nodal displacement of the stage [m]) at the start and after
+            every converged increment, where the stage records it (a lift placed: its
+            weight's fraction); :meth:`runaway` reads it.
     """
 
     completed: bool
@@ -44,6 +47,7 @@ class Analysis:
     cuts: int
     stage: str = "load"
     target: float = 1.0
+    path: tuple[tuple[float, float], ...] = ()
 
     def message(self) -> str:
         """What happened, in a sentence a user can act on."""
@@ -61,6 +65,10 @@ class Analysis:
                     "did not converge)")
         return (f"{self.stage} factor {self.factor:.6g} of the target {self.target:.6g}: no "
                 "equilibrium beyond (collapse, or Newton did not converge)")
+
+    def runaway(self) -> float:
+        """:func:`runaway_ratio` of :attr:`path` (1 with fewer than three points)."""
+        return runaway_ratio([f for f, _ in self.path], [u for _, u in self.path])
 
     def require(self) -> Analysis:
         """Return self when completed; otherwise raise :class:`StageIncomplete`."""

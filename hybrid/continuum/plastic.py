@@ -539,7 +539,9 @@ class PlasticSolver:
         A failing increment is cut in half, down to ``min_increment`` x the first (as in
         :meth:`ramp`). Returns whether the full weight was reached; if not, the new cells keep
         the last fraction of their weight with equilibrium (``Analysis.factor``): the
-        structure collapses while this lift is placed.
+        structure collapses while this lift is placed, if the displacement ran away
+        (``Analysis.path``: the largest displacement since the lift's placement after every
+        converged increment; :meth:`Analysis.runaway`).
         """
         if self.gravity_factor == 0.0:  # placed material comes with its weight
             self.gravity_factor = 1.0
@@ -563,6 +565,7 @@ class PlasticSolver:
             raise ValueError(f"activate: steps = {steps} must be >= 1")
         control = IncrementControl.of(1.0 / steps, self.options)
         placed, bar = 0.0, progress(stage, 1.0)
+        u0, path = self.u.x.array.copy(), [(0.0, 0.0)]
         while placed < 1.0 - 1e-12:
             trial = min(placed + control.size, 1.0)
             weigh(trial)
@@ -571,13 +574,14 @@ class PlasticSolver:
                     weigh(placed)
                     log.info("%s: no equilibrium beyond %.4g of its weight", stage, placed)
                     bar.close()
-                    return Analysis(False, placed, control.cuts, stage)
+                    return Analysis(False, placed, control.cuts, stage, path=tuple(path))
                 continue
             control.grow()
             placed = trial
+            path.append((placed, largest_nodal_norm(self.u.x.array - u0, self.disc.V.mesh.comm)))
             bar.update(placed)
         bar.close()
-        return Analysis(True, 1.0, control.cuts, stage)
+        return Analysis(True, 1.0, control.cuts, stage, path=tuple(path))
 
     def set_strength_factor(self, factor: float) -> None:
         """Divide c and tan(phi), tan(psi) of every plastic material by ``factor``.

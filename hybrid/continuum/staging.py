@@ -34,6 +34,9 @@ __all__ = ["split_into_lifts", "lift_groups", "lift_materials", "PlacementStrain
            "Construction", "ground_stage", "build_in_lifts"]
 
 _STRIDE = 100  # tag of lift k of a group tagged t: _STRIDE * t + k
+# a lift that stopped short ran away when d u / d weight of its last converged increment is at
+# least this many times its first's (the test of ``Analysis.require_collapse``)
+RUNAWAY_JUMP = 10.0
 T = TypeVar("T")
 
 
@@ -152,13 +155,20 @@ class Construction:
     def collapse(self) -> dict[str, Any] | None:
         """The collapsing lift (None when every lift was placed).
 
-        "lift", "top_<unit>" and "weight_carried" (the fraction of its weight in equilibrium).
+        "lift", "top_<unit>", "weight_carried" (the fraction of its weight in equilibrium),
+        "runaway_ratio" (d u / d weight of its last converged increment over its first's),
+        "runaway" (that ratio at least :data:`RUNAWAY_JUMP`: the displacement ran away, a
+        collapse) and "softening" (a material of the model softens). Without a run-away the
+        stop is a sharp limit (the last part of a mechanism yielding at once), a softening
+        peak, or Newton stalling: the lift's record's "path" and a run with a smaller least
+        increment tell them apart.
         """
         if self.completed:
             return None
         last = self.stages[-1]
         return {"lift": last["lift"], f"top_{self.unit}": last[f"top_{self.unit}"],
-                "weight_carried": last["weight_placed"]}
+                "weight_carried": last["weight_placed"], "runaway_ratio": last["runaway_ratio"],
+                "runaway": last["runaway_ratio"] >= RUNAWAY_JUMP, "softening": last["softening"]}
 
     def history(self, key: str, item: str | None = None) -> list[tuple[float, Any]]:
         """(top of the lift, its record's ``key``) of every complete lift.
@@ -294,7 +304,11 @@ def build_in_lifts(solver: PlasticSolver, mesh: MeshData, tops: Sequence[float],
     "weight_placed" (fraction with equilibrium), "fill_level_<unit>" (the level that
     fraction of the lift reaches, from ``base_level`` below the first lift),
     "newton_iterations", "step_cuts", "wall_time_s", "yielded_cells", "max_displacement_m"
-    (all ranks) and, with ``safety``, "factor_of_safety", "fos_wall_time_s"; ``unit`` names
+    (all ranks), for a lift that stopped short "runaway_ratio" (``Analysis.runaway``: whether
+    it collapsed, :attr:`Construction.collapse`), "softening" (a material of the
+    model softens) and "path" (``Analysis.path``: weight fraction, largest displacement
+    since its placement [m]) and, with ``safety``,
+    "factor_of_safety", "fos_wall_time_s"; ``unit`` names
     the elevations' unit in the keys (e.g. "m_OD"). ``monitor``: called after every complete
     lift (before the factor of safety); its items are added to that lift's record (nothing
     is recorded from a lift that did not carry its full weight).
@@ -330,6 +344,9 @@ def build_in_lifts(solver: PlasticSolver, mesh: MeshData, tops: Sequence[float],
             solver.yielded.reshape(solver.sspace.num_cells, -1) > 0, axis=1))))
         stage["max_displacement_m"] = largest_nodal_norm(solver.u.x.array, comm)
         if not analysis.completed:
+            stage["runaway_ratio"] = analysis.runaway()
+            stage["softening"] = any(m.softens for m in solver.materials)
+            stage["path"] = [list(point) for point in analysis.path]
             break
         if monitor is not None:
             stage.update(monitor(solver))
