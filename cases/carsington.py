@@ -135,8 +135,8 @@ class Parameters(references.CarsingtonTable62, references.CarsingtonTable63):
     cells: str = param("quadrilateral", choices=CELLS)  # or "triangle"
     degree: int = param(2, choices=(1, 2))  # displacement order
     lifts: int = param(5, ge=1)  # lifts after the foundation's stage (thesis: 6 stages in all)
-    parts_above: float | None = param(None, gt=0)  # fill above this level [m OD] placed in
-    part_height: float = param(0.5, gt=0)  # parts at most this high [m] (a collapse's level)
+    parts_above: float | None = param(None, gt=0)  # the fill above this level [m OD] in parts
+    part_height: float = param(0.5, gt=0)  # the parts' largest height [m] (with parts_above)
     yellow_clay_thickness: float = param(1.5, gt=0)  # [m] (published 1-2 m)
     yellow_clay_length: float | None = param(36.0, gt=0)  # from the boot [m] (None: toe + 30 m)
     boot_length: float = param(35.0, gt=0)  # upstream end of the boot from the axis [m] (assumed)

@@ -247,11 +247,13 @@ def lift_tops(crest_level: float = 200.5, berm_top: float = 175.6, lifts: int = 
     parts = [tops[0]]
     for bottom, top in zip(tops[:-1], tops[1:]):
         start = max(bottom, float(parts_above))
-        if start >= top:  # the lift lies wholly below the parts
+        if start >= top - 1e-6:  # the lift lies wholly below the parts (no sliver at its top)
             parts.append(top)
             continue
-        if start > bottom:
+        if start > bottom + 1e-6:  # no sliver at its bottom
             parts.append(start)
+        else:
+            start = bottom
         count = math.ceil((top - start) / part_height - 1e-9)
         parts += [start + k * ((top - start) / count) for k in range(1, count)] + [top]
     return parts

@@ -237,9 +237,12 @@ QUOTES: list[Quote] = [
     ("docs/carsington.md", "the section carries the fill to {} m OD and fails", lambda: [
         _parts_row(PARTS_MESHES[2])[2]] * (_parts_row(PARTS_MESHES[2])[2:4]
                                             == _parts_row(PARTS_MESHES[3])[2:4])),
+    ("docs/carsington.md", "grows by {} m in the part to {} m OD and by {} m in the part to {} m "
+     "OD", lambda: [v for top in (194.5, 198.5) for v in (
+         _part_growth("carsington_parts_size6", top), top)]),
     ("docs/carsington.md", "The coarser meshes overstate it ({} m OD on the 6 m mesh)",
      lambda: [_parts_row(PARTS_MESHES[0])[5]]),
-    ("docs/carsington.md", "the 3 m mesh stops at {} % of the part's weight against {} %",
+    ("docs/carsington.md", "the 3 m mesh then stops at {} % of the part's weight against {} %",
      lambda: [100.0 * _json(f"docs/summaries/{n}.json")["construction"]["collapsing_lift"][
          "weight_carried"] for n in ("carsington_parts_size3_increment1e-4",
                                      "carsington_parts_size3")]),
@@ -671,6 +674,14 @@ def _parts_row(name: str) -> list[float]:
     return [d["parameters"]["size"], d["mesh"]["cells"], c["fill_level_m_od"], lift["top_m_OD"],
             100.0 * lift["weight_carried"], c["stages"][-1]["fill_level_m_OD"],
             lift["runaway_ratio"], node_a[190.0]]
+
+
+def _part_growth(name: str, top: float) -> float:
+    """Growth of the largest displacement [m] in the part topped at ``top`` [m OD]."""
+    stages = _json(f"docs/summaries/{name}.json")["construction"]["stages"]
+    largest = {st["top_m_OD"]: st["max_displacement_m"] for st in stages}
+    below = max(z for z in largest if z < top)
+    return largest[top] - largest[below]
 
 
 def _soft_sizes(names: tuple[str, ...] | list[str]) -> list[float]:

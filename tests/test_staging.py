@@ -193,6 +193,7 @@ def test_a_lift_that_stops_short_says_whether_it_ran_away():
     assert path[0] == [0.0, 0.0] and path[-1][0] == collapsed.collapse["weight_carried"]
     assert path[-1][1] > 1.0 > 100 * path[1][1]
     _, stalled = free_column(32.0, max_iterations=2)
+    assert len(stalled.stages[-1]["path"]) >= 3  # two increments at least: a ratio
     assert stalled.collapse["runaway_ratio"] < RUNAWAY_JUMP
     assert not stalled.collapse["runaway"]
     assert free_column(32.0)[1].completed  # with Newton's default

@@ -156,19 +156,22 @@ class Construction:
         """The collapsing lift (None when every lift was placed).
 
         "lift", "top_<unit>", "weight_carried" (the fraction of its weight in equilibrium),
-        "runaway_ratio" (d u / d weight of its last converged increment over its first's),
-        "runaway" (that ratio at least :data:`RUNAWAY_JUMP`: the displacement ran away, a
-        collapse) and "softening" (a material of the model softens). Without a run-away the
-        stop is a sharp limit (the last part of a mechanism yielding at once), a softening
-        peak, or Newton stalling: the lift's record's "path" and a run with a smaller least
-        increment tell them apart.
+        "runaway_ratio" (d u / d weight of its last converged increment over its first's;
+        None with fewer than two increments), "runaway" (that ratio at least
+        :data:`RUNAWAY_JUMP`: the displacement ran away, a collapse; None when unknown) and
+        "softening" (a material of the model softens). Without a run-away the stop is a sharp
+        limit (the last part of a mechanism yielding at once), a softening peak, a stop inside
+        a flowing section (the ratio compares the lift's own increments), or Newton stalling:
+        the lift's record's "path" and a run with a smaller least increment tell them apart.
         """
         if self.completed:
             return None
         last = self.stages[-1]
         return {"lift": last["lift"], f"top_{self.unit}": last[f"top_{self.unit}"],
                 "weight_carried": last["weight_placed"], "runaway_ratio": last["runaway_ratio"],
-                "runaway": last["runaway_ratio"] >= RUNAWAY_JUMP, "softening": last["softening"]}
+                "runaway": (None if last["runaway_ratio"] is None
+                            else last["runaway_ratio"] >= RUNAWAY_JUMP),
+                "softening": last["softening"]}
 
     def history(self, key: str, item: str | None = None) -> list[tuple[float, Any]]:
         """(top of the lift, its record's ``key``) of every complete lift.
@@ -344,7 +347,7 @@ def build_in_lifts(solver: PlasticSolver, mesh: MeshData, tops: Sequence[float],
             solver.yielded.reshape(solver.sspace.num_cells, -1) > 0, axis=1))))
         stage["max_displacement_m"] = largest_nodal_norm(solver.u.x.array, comm)
         if not analysis.completed:
-            stage["runaway_ratio"] = analysis.runaway()
+            stage["runaway_ratio"] = analysis.runaway() if len(analysis.path) >= 3 else None
             stage["softening"] = any(m.softens for m in solver.materials)
             stage["path"] = [list(point) for point in analysis.path]
             break
