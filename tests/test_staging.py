@@ -8,10 +8,9 @@ import numpy as np
 import pytest
 
 from hybrid.continuum import NewtonOptions
-from hybrid.continuum.analysis import at_rest_checks
+from hybrid.continuum.analysis import RUNAWAY_JUMP, at_rest_checks
 from hybrid.continuum.plastic import PlasticSolver
 from hybrid.continuum.staging import (
-    RUNAWAY_JUMP,
     Construction,
     build_in_lifts,
     lift_groups,

@@ -22,8 +22,12 @@ from hybrid.errors import StageIncomplete
 from hybrid.io import Check
 from hybrid.references import oedometer_stress
 
-__all__ = ["Analysis", "AtRest", "at_rest_checks", "largest_nodal_norm", "plateau_rise",
-           "runaway_ratio"]
+__all__ = ["RUNAWAY_JUMP", "Analysis", "AtRest", "at_rest_checks", "largest_nodal_norm",
+           "plateau_rise", "runaway_ratio"]
+
+# a load path ran away (a collapse) when d u / d load of its last increment is at least this many
+# times its first's
+RUNAWAY_JUMP = 10.0
 
 
 @dataclass
@@ -66,8 +70,10 @@ class Analysis:
         return (f"{self.stage} factor {self.factor:.6g} of the target {self.target:.6g}: no "
                 "equilibrium beyond (collapse, or Newton did not converge)")
 
-    def runaway(self) -> float:
-        """:func:`runaway_ratio` of :attr:`path` (1 with fewer than three points)."""
+    def runaway(self) -> float | None:
+        """:func:`runaway_ratio` of :attr:`path`; None with fewer than two increments."""
+        if len(self.path) < 3:
+            return None
         return runaway_ratio([f for f, _ in self.path], [u for _, u in self.path])
 
     def require(self) -> Analysis:
@@ -98,7 +104,7 @@ class Analysis:
             "Use more steps or a finer mesh")
 
     def require_collapse(self, load: Sequence[float], displacement: Sequence[float], *,
-                         jump: float = 10.0) -> Analysis:
+                         jump: float = RUNAWAY_JUMP) -> Analysis:
         """A load-controlled ramp stopped short of its target.
 
         It counts as a collapse only if the displacement ran away (:func:`runaway_ratio` of

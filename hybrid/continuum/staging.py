@@ -21,7 +21,7 @@ import numpy as np
 from dolfinx import fem
 from mpi4py import MPI
 
-from hybrid.continuum.analysis import AtRest, at_rest_checks, largest_nodal_norm
+from hybrid.continuum.analysis import RUNAWAY_JUMP, AtRest, at_rest_checks, largest_nodal_norm
 from hybrid.continuum.fields import strain
 from hybrid.continuum.plastic import PlasticSolver
 from hybrid.continuum.state import ContinuumState
@@ -34,9 +34,6 @@ __all__ = ["split_into_lifts", "lift_groups", "lift_materials", "PlacementStrain
            "Construction", "ground_stage", "build_in_lifts"]
 
 _STRIDE = 100  # tag of lift k of a group tagged t: _STRIDE * t + k
-# a lift that stopped short ran away when d u / d weight of its last converged increment is at
-# least this many times its first's (the test of ``Analysis.require_collapse``)
-RUNAWAY_JUMP = 10.0
 T = TypeVar("T")
 
 
@@ -308,11 +305,10 @@ def build_in_lifts(solver: PlasticSolver, mesh: MeshData, tops: Sequence[float],
     fraction of the lift reaches, from ``base_level`` below the first lift),
     "newton_iterations", "step_cuts", "wall_time_s", "yielded_cells", "max_displacement_m"
     (all ranks), for a lift that stopped short "runaway_ratio" (``Analysis.runaway``: whether
-    it collapsed, :attr:`Construction.collapse`), "softening" (a material of the
-    model softens) and "path" (``Analysis.path``: weight fraction, largest displacement
-    since its placement [m]) and, with ``safety``,
-    "factor_of_safety", "fos_wall_time_s"; ``unit`` names
-    the elevations' unit in the keys (e.g. "m_OD"). ``monitor``: called after every complete
+    it collapsed, :attr:`Construction.collapse`), "softening" (a material of the model
+    softens) and "path" (``Analysis.path``: weight fraction, largest displacement since its
+    placement [m]) and, with ``safety``, "factor_of_safety", "fos_wall_time_s"; ``unit``
+    names the elevations' unit in the keys (e.g. "m_OD"). ``monitor``: called after every complete
     lift (before the factor of safety); its items are added to that lift's record (nothing
     is recorded from a lift that did not carry its full weight).
     """
@@ -347,7 +343,7 @@ def build_in_lifts(solver: PlasticSolver, mesh: MeshData, tops: Sequence[float],
             solver.yielded.reshape(solver.sspace.num_cells, -1) > 0, axis=1))))
         stage["max_displacement_m"] = largest_nodal_norm(solver.u.x.array, comm)
         if not analysis.completed:
-            stage["runaway_ratio"] = analysis.runaway() if len(analysis.path) >= 3 else None
+            stage["runaway_ratio"] = analysis.runaway()
             stage["softening"] = any(m.softens for m in solver.materials)
             stage["path"] = [list(point) for point in analysis.path]
             break
