@@ -85,13 +85,30 @@ class Strength:
     psi: float = 0.0
     tensile_strength: float | None = None
 
+    @property
+    def cutoff(self) -> float | None:
+        """The tension cut-off in force [kPa]: the given one, at most the apex c cot(phi).
 
-def _weakened_strength(s: Strength, factor: float) -> Strength:
-    """C / F, tan(phi) / F, tan(psi) / F (at most phi), tensile strength / F."""
+        None: there is none (phi = 0 without a given one).
+        """
+        if self.phi > 0:
+            apex = self.cohesion / math.tan(math.radians(self.phi))
+            return apex if self.tensile_strength is None else min(self.tensile_strength, apex)
+        return self.tensile_strength
+
+
+def _weakened_strength(s: Strength, factor: float, cutoff: float | None = None) -> Strength:
+    """C / F, tan(phi) / F, tan(psi) / F (at most phi), tensile strength / F.
+
+    The tensile strength at most ``cutoff`` [kPa], the weakened peak's: its apex c cot(phi) is
+    the same at any F, so a residual cut-off divided by F < 1 could pass it.
+    """
     phi = _reduced_angle(s.phi, factor)
+    tensile = _divided(s.tensile_strength, factor)
+    if tensile is not None and cutoff is not None:
+        tensile = min(tensile, cutoff)
     return Strength(cohesion=s.cohesion / factor, phi=phi,
-                    psi=min(_reduced_angle(s.psi, factor), phi),
-                    tensile_strength=_divided(s.tensile_strength, factor))
+                    psi=min(_reduced_angle(s.psi, factor), phi), tensile_strength=tensile)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -297,10 +314,7 @@ class Material:
         if r.cohesion == 0 and r.phi == 0:
             raise _invalid(where, "cohesion", r.cohesion, "> 0 or phi > 0 (some strength)")
         if r.tensile_strength is not None:
-            peak_cutoff = self.tensile_strength
-            if self.phi > 0:
-                apex = self.cohesion / math.tan(math.radians(self.phi))
-                peak_cutoff = apex if peak_cutoff is None else min(peak_cutoff, apex)
+            peak_cutoff = self.peak.cutoff
             if peak_cutoff is None:
                 raise _invalid(owner, "tensile_strength", None, "given (the peak's tension "
                                "cut-off) when the residual has one and phi = 0")
@@ -401,6 +415,8 @@ class Material:
             raise MaterialError(f"material '{self.name}': strength factor {factor!r} must be a "
                                 "finite number > 0")
         phi = _reduced_angle(self.phi, factor)
+        peak = Strength(cohesion=self.cohesion / factor, phi=phi,
+                        tensile_strength=_divided(self.tensile_strength, factor))
         with warnings.catch_warnings():  # reduced angles are degrees, whatever their size
             warnings.simplefilter("ignore", MaterialWarning)
             bond = Bond(cohesion=_divided(self.bond.cohesion, factor),
@@ -408,10 +424,9 @@ class Material:
                         tensile_strength=_divided(self.bond.tensile_strength, factor))
             contact = replace(self.contact, phi=_reduced_optional(self.contact.phi, factor),
                               cohesion=_divided(self.contact.cohesion, factor))
-            return replace(self, cohesion=self.cohesion / factor, phi=phi,
+            return replace(self, cohesion=peak.cohesion, phi=phi,
                            psi=min(_reduced_angle(self.psi, factor), phi),
-                           plastic=self.is_plastic,
-                           tensile_strength=_divided(self.tensile_strength, factor),
-                           residual=(None if self.residual is None
-                                     else _weakened_strength(self.residual, factor)),
+                           plastic=self.is_plastic, tensile_strength=peak.tensile_strength,
+                           residual=(None if self.residual is None else _weakened_strength(
+                               self.residual, factor, peak.cutoff)),
                            bond=bond, contact=contact)

@@ -125,6 +125,25 @@ def test_load_program_ramps_holds_removes_and_restores_its_progress():
     assert a.curve == b.curve and a.at_unloading == b.at_unloading == 1.0
 
 
+def test_load_program_removes_the_load_it_had_reached():
+    """A target reached while the load is still being raised (100 -> 300 over 0.1 s, the
+    target at 0.05 s, at 200): the load falls from 200 to 0 over 0.1 s, never up to the
+    peak of the ramp it had not reached."""
+    from types import SimpleNamespace
+
+    from hybrid.discrete.runs import LoadProgram
+
+    applied, reach = [], {"now": 0.0}
+    p = LoadProgram(apply=applied.append, measure=lambda: reach["now"], start=100.0,
+                    peak=300.0, target=1.0, ramp_time=0.1, max_time=10.0, t_start=1.0)
+    reach["now"] = 1.0
+    assert not p(SimpleNamespace(time=1.05)) and p.t_unload == pytest.approx(0.05)
+    assert applied[-1] == pytest.approx(200.0)
+    assert not p(SimpleNamespace(time=1.10)) and applied[-1] == pytest.approx(100.0)
+    assert p(SimpleNamespace(time=1.16)) and applied[-1] == 0.0
+    assert max(applied) == pytest.approx(200.0)
+
+
 def test_a_checkpointed_callback_state_needs_a_stateful_on_check():
     """A checkpoint that holds an on_check's progress refuses a plain function in its place."""
     from hybrid.discrete.solver import _restore_callback

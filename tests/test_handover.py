@@ -151,3 +151,23 @@ def test_handover_of_a_staged_state():
     assert disc.stress[:, :, 1].min() == pytest.approx(-40.0, rel=0.15)
     report = settle(hand, steps=1000)
     assert report.stress_change < 0.02
+
+
+@pytest.mark.parametrize(("gravity", "loads"), [(False, True), (True, False)])
+def test_an_elastic_state_hands_over_only_what_acts_in_it(builder, gravity, loads):
+    """A state solved without its self-weight (or without its loads) starts the discrete
+    phase without them: what acts is what the state was solved with, as after a plastic
+    solver's stages (a 2 m x 1 m block, 10 kPa on its top, base fixed)."""
+    from hybrid.continuum import solve_elastic
+    from hybrid.geometry import build_mesh
+    from hybrid.materials import GRAVITY, Material
+    from hybrid.model import Fixed, Model, Pressure
+
+    mesh = build_mesh(builder("block"), width=2.0, height=1.0, nx=2, ny=1)
+    model = Model(mesh, {"soil": Material(name="soil", E=1e4, nu=0.3, unit_weight=20.0)},
+                  supports=[Fixed("base")], loads=[Pressure("top", 10.0)])
+    h = to_discrete(solve_elastic(model, gravity=gravity, loads=loads))
+    assert h.discrete.gravity.tolist() == ([0.0, -GRAVITY] if gravity else [0.0, 0.0])
+    # the pressure acts on the deformed top, stretched by the elastic strain (~1e-4 here)
+    assert abs(h.load_forces[:, 1].sum()) == pytest.approx(10.0 * 2.0 if loads else 0.0,
+                                                           rel=1e-3)

@@ -103,3 +103,18 @@ def test_bond_and_contact_records():
     assert weak.contact.cohesion == 1.5
     assert weak.contact.damping == 0.2 and weak.density == 2.0
     assert clay.peak.cohesion == 10.0 and clay.peak.phi == 30.0
+
+
+def test_strengthening_keeps_a_residual_cut_off_within_the_peak_apex():
+    """c = 10 kPa, phi = 30 deg (apex c cot(phi) = 17.32 kPa, the peak's cut-off), a residual
+    cut-off of 17 kPa: strength reduction by F divides it by F but never lifts it above the
+    weakened peak's cut-off, whose apex is the same at any F (F = 0.5 once raised an error)."""
+    from hybrid.materials import Strength
+
+    m = Material(name="a", E=1e5, nu=0.3, cohesion=10.0, phi=30.0,
+                 residual=Strength(cohesion=10.0, phi=30.0, tensile_strength=17.0),
+                 softening_displacement=0.05)
+    apex = 10.0 / math.tan(math.radians(30.0))
+    assert tension_cutoff(m.weakened(2.0).residual) == pytest.approx(8.5)
+    assert tension_cutoff(m.weakened(0.5).residual) == pytest.approx(apex, rel=1e-12)
+    assert tension_cutoff(m.weakened(0.5).peak) == pytest.approx(apex, rel=1e-12)

@@ -50,13 +50,8 @@ def tension_cutoff(strength: Strength) -> float:
     The kernel assumes t <= c cot(phi) (no tension beyond the apex); without a given value the
     cut-off is the apex, and for phi = 0 (Tresca) it is inactive (``NO_TENSION_CUTOFF``).
     """
-    if strength.phi > 0:
-        apex = strength.cohesion / math.tan(math.radians(strength.phi))
-    else:
-        apex = NO_TENSION_CUTOFF
-    if strength.tensile_strength is not None:
-        return min(float(strength.tensile_strength), apex)
-    return apex
+    cutoff = strength.cutoff
+    return NO_TENSION_CUTOFF if cutoff is None else float(min(cutoff, NO_TENSION_CUTOFF))
 
 
 def kernel_row(material: Material) -> tuple[float, ...]:

@@ -79,7 +79,9 @@ def solve_elastic(model: Model, *, gravity: bool = True, loads: bool = True, deg
     n, nqp = stress.shape[:2]
     elapsed = time.perf_counter() - start
     info = {"solver": "elastic", "degree": degree, "dofs": V.dofmap.index_map.size_global * 2,
-            "cells": model.mesh.mesh.topology.index_map(2).size_global, "wall_time_s": elapsed}
+            "cells": model.mesh.mesh.topology.index_map(2).size_global, "wall_time_s": elapsed,
+            # what acts in this state, as a plastic solver records it (the handover reads them)
+            "gravity_factor": 1.0 if gravity else 0.0, "load_factor": 1.0 if loads else 0.0}
     log.info("elastic solve: %(cells)d cells, %(dofs)d dofs, %(wall_time_s).2f s", info)
     return ContinuumState(model, disc, u, stress, np.zeros((n, nqp)),
                           np.zeros((n, nqp), dtype=np.int8), info)

@@ -37,8 +37,7 @@ def cell_snapshot(state: Any, *, strength_factor: float | None = None,
     model = state.model
     factor = state.strength_factor if strength_factor is None else strength_factor
     if gravity is None:
-        gravity = state.info.get("gravity_factor", 1.0 if state.info.get("solver") == "elastic"
-                                 else 0.0) > 0
+        gravity = state.info.get("gravity_factor", 0.0) > 0
     cell_of_original = {int(o): e for e, o in enumerate(data["original"])}
     name_of_tag = {tag: name for name, tag in model.mesh.facet_groups.items()}
     rows: dict[str, list[tuple[int, int, int]]] = {}

@@ -333,7 +333,6 @@ def build_in_lifts(solver: PlasticSolver, mesh: MeshData, tops: Sequence[float],
             "newton_iterations": solver.iterations_total - it0, "step_cuts": analysis.cuts,
             "wall_time_s": time.perf_counter() - t0}
         stages.append(stage)
-        placement.add(solver.u.x.array - u0)
         later = [mesh.cells(g) for j in range(k + 1, lifts + 1) for g in lift_groups(mesh, j)]
         s = solver.stress.reshape(solver.sspace.num_cells, -1, 4)
         s_later = s[np.concatenate(later)] if later else s[:0]
@@ -346,7 +345,8 @@ def build_in_lifts(solver: PlasticSolver, mesh: MeshData, tops: Sequence[float],
             stage["runaway_ratio"] = analysis.runaway()
             stage["softening"] = any(m.softens for m in solver.materials)
             stage["path"] = [list(point) for point in analysis.path]
-            break
+            break  # its strain is no part of the last equilibrium the figures show
+        placement.add(solver.u.x.array - u0)
         if monitor is not None:
             stage.update(monitor(solver))
         if safety is not None and (safety_every_lift or k == lifts):

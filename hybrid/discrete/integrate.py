@@ -79,14 +79,14 @@ def _group_update(group_ptr, group_nodes, group_mass, internal_force, contact_fo
         voy = v[first, 1]
         dlx = 0.0
         dly = 0.0
-        if local_damping > 0.0:
-            if vox > 0.0:
+        if local_damping > 0.0:  # on free components only: a held one moves as prescribed
+            if vox > 0.0 and not fixx:
                 dlx = -local_damping * abs(fx)
-            elif vox < 0.0:
+            elif vox < 0.0 and not fixx:
                 dlx = local_damping * abs(fx)
-            if voy > 0.0:
+            if voy > 0.0 and not fixy:
                 dly = -local_damping * abs(fy)
-            elif voy < 0.0:
+            elif voy < 0.0 and not fixy:
                 dly = local_damping * abs(fy)
         vnx = pvx if fixx else c1 * vox + c2 * (fx + dlx) / m
         vny = pvy if fixy else c1 * voy + c2 * (fy + dly) / m

@@ -59,7 +59,8 @@ class LoadProgram(_Unloading):
 
     From ``t_start`` [s] the load value goes linearly from ``start`` to ``peak`` over
     ``ramp_time`` [s] and is held; when ``measure()`` reaches ``target`` (or after
-    ``max_time`` [s] of loading) it falls linearly to 0 over ``ramp_time``. ``apply(value)``
+    ``max_time`` [s] of loading) it falls linearly to 0 over ``ramp_time`` from the value it
+    had reached. ``apply(value)``
     sets the load (e.g. a handover's ``set_load_factor`` scaled to a pressure). Called at
     every check, it returns True once the load is removed (the run stops there). Its progress
     is saved in checkpoints (``state``/``restore``), so a resumed run continues it.
@@ -81,16 +82,23 @@ class LoadProgram(_Unloading):
     at_unloading: float | None = None
     curve: list[tuple[float, float]] = field(default_factory=list)
 
+    def raised(self, t: float) -> float:
+        """The load ``t`` [s] after ``t_start`` while it is raised and held."""
+        if t >= self.ramp_time:
+            return self.peak
+        return self.start + (self.peak - self.start) * (t / self.ramp_time)
+
     def __call__(self, state: DiscreteState) -> bool:
         """Set the load for the state's time; True once it is removed."""
         t = state.time - self.t_start
         if self.phase == _LOADING:
-            value = self.start + (self.peak - self.start) * min(t / self.ramp_time, 1.0)
+            value = self.raised(t)
             if self.measure() >= self.target or t >= self.max_time:
                 self.phase, self.t_unload, self.at_unloading = _UNLOADING, t, self.measure()
         if self.phase == _UNLOADING:
             assert self.t_unload is not None
-            value = self._ramp_down(self.peak, t, self.t_unload)
+            # removed from the load it had reached (the peak unless the target came first)
+            value = self._ramp_down(self.raised(self.t_unload), t, self.t_unload)
         if self.phase == _REMOVED:
             value = 0.0
         self.apply(value)
