@@ -43,7 +43,7 @@ Verification (asserted in ``tests/test_carsington.py``)
     * the discrete phase as the thesis describes it (6.3.2): at rest, the slip surface
       through the yellow clay, the boot and the core above it, the upstream shoulder moving
       upstream, energy bounded, elements and mass kept; a crack from the crest down (failed
-      interfaces parted >= ``slip_min`` joined to the crest: ``crack_from_top``) is checked
+      interfaces open >= ``slip_min`` joined to the crest: ``crack_from_top``) is checked
       and reported (found by the softening analysis on most meshes, not with the thesis's
       strengths);
     * the post-failure movements at rest against the observed ones (12 m, 10 m) with a bar of
@@ -161,7 +161,8 @@ class Parameters(references.CarsingtonTable62, references.CarsingtonTable63):
     #                            layers are N element sizes, shrinking as the mesh is refined)
     mass_damping: float = param(0.0, ge=0)  # mass damping alpha [1/s] (thesis: 3; see header)
     contact_damping: float = param(0.2, ge=0, le=1)  # normal contact damping ratio [-]
-    slip_min: float = param(0.1, gt=0)  # slip that puts a failed interface on the slip surface [m]
+    slip_min: float = param(0.1, gt=0)  # slip that puts a failed interface on the slip surface,
+    #                                     opening that makes it part of a crack [m]
     rest: float = param(1e-4, gt=0)  # kinetic / strain energy ratio taken as rest
     frames: int = param(30, ge=0)  # animation frames of the discrete phase (0: none)
     progress: bool = True  # progress bar of the discrete run
@@ -331,7 +332,8 @@ def main(out: str | Path = "results/carsington", **overrides) -> CaseSummary:
                       progress=p.progress, material_names=hand.material_names)
     surface = SlipSurface.of(disc, p.slip_min, {"yellow_clay": group == "yellow_clay",
                                                 "boot": zone["boot"], "core": zone["core"]})
-    crack = crack_from_top(disc, g.crest_range, min_slip=p.slip_min, top_depth=CREST_DEPTH)
+    crack = crack_from_top(disc, g.crest_range, min_opening=p.slip_min,
+                           top_depth=CREST_DEPTH)
     crack_lines = {f"crack from the crest ({crack.depth:.1f} m deep)":
                    disc.x[disc.interface_nodes[crack.interfaces][:, :2]]}
     paths = [*run.figures, run.final_figure(out / "discrete_final.png",
@@ -344,8 +346,8 @@ def main(out: str | Path = "results/carsington", **overrides) -> CaseSummary:
                           "boot": "an element of the core's boot",
                           "core": "an element of the core above its boot"}),
         "crack_at_crest": Check(float(crack.interfaces.any()), 1.0, 0.0, "-",
-                                f"failed interfaces parted >= {p.slip_min} m from the crest "
-                                "down (crack_from_top)"),
+                                f"failed interfaces open >= {p.slip_min} m from the crest down "
+                                "(crack_from_top)"),
         "shoulder_moves_upstream": Check(float(shoulder_dx < 0.0), 1.0, 0.0, "-",
                                          "mean x-displacement of the upstream shoulder < 0"),
         **run.checks()})

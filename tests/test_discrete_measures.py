@@ -72,22 +72,30 @@ def _column_with_cracks(failed_rows):
 
 def test_crack_from_top_follows_connected_failed_interfaces_down():
     st, mid = _column_with_cracks([2, 1])  # the top two rows: one crack 2 m deep
-    crack = crack_from_top(st, (0.5, 1.5), min_slip=0.1, top_depth=0.01)
+    crack = crack_from_top(st, (0.5, 1.5), min_opening=0.1, top_depth=0.01)
     assert crack.top == 3.0 and crack.depth == pytest.approx(2.0)
     assert sorted(mid[crack.interfaces, 1].tolist()) == [1.5, 2.5]
     assert crack.max_opening == pytest.approx(0.2) and crack.max_slip == pytest.approx(0.2)
     # a failed interface not joined to the top does not count: the crack stops at 1 m
     st, mid = _column_with_cracks([2, 0])
-    crack = crack_from_top(st, (0.5, 1.5), min_slip=0.1, top_depth=0.01)
+    crack = crack_from_top(st, (0.5, 1.5), min_opening=0.1, top_depth=0.01)
     assert mid[crack.interfaces, 1].tolist() == [2.5] and crack.depth == pytest.approx(1.0)
     # nothing reaches the top, or it moved less than min_slip: no crack
     st, _ = _column_with_cracks([0])
-    assert crack_from_top(st, (0.5, 1.5), min_slip=0.1, top_depth=0.01).depth == 0.0
+    assert crack_from_top(st, (0.5, 1.5), min_opening=0.1, top_depth=0.01).depth == 0.0
     st, _ = _column_with_cracks([2])
-    none = crack_from_top(st, (0.5, 1.5), min_slip=0.5, top_depth=0.01)
+    none = crack_from_top(st, (0.5, 1.5), min_opening=0.5, top_depth=0.01)
     assert not none.interfaces.any() and none.depth == 0.0
     with pytest.raises(ValueError, match="no node in the column"):
-        crack_from_top(st, (5.0, 6.0), min_slip=0.1, top_depth=0.01)
+        crack_from_top(st, (5.0, 6.0), min_opening=0.1, top_depth=0.01)
+    # the right column slid 0.3 m down along the failed interfaces from the top without
+    # opening: a slip surface, no crack
+    st, _ = _column_with_cracks([2, 1])
+    st.x[:] = st.x_ref
+    st.x[np.unique(st.element_nodes[st.element_centroids()[:, 0] > 1.0])] += (0.0, -0.3)
+    assert interface_slip(st).max() == pytest.approx(0.3)
+    slid = crack_from_top(st, (0.5, 1.5), min_opening=0.1, top_depth=0.01)
+    assert not slid.interfaces.any() and slid.depth == 0.0
 
 
 def test_slip_trace_is_in_the_start_geometry():

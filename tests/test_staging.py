@@ -347,3 +347,26 @@ def test_ground_stage_and_levels(column):
     marked = dataclasses.replace(built, stages=[{**st, "at": {"a": st["lift"], "b": 0}}
                                                 for st in built.stages])
     assert marked.history("at", "a") == [(3.0, 1), (4.0, 2)] == marked.history("lift")
+
+
+def test_fill_not_yet_placed_never_yields():
+    """A 4 m wide, 6 m high fill of three 2 m lifts (c = 5 kPa, phi = 25 deg, no tension)
+    placed lift by lift: the lift not yet placed carries no stress and gathers no plastic
+    strain, though the lifts below it settle and drag its lowest nodes (the trial stress of
+    its cells is tensile); before, its points gathered plastic strain (3.7e-2 here) that
+    the handover and the yielded-zone reports counted."""
+    mesh = build_mesh(load_builder(MESHES / "layers.py"), width=4.0, lift_thickness=2.0,
+                      lifts=3)
+    fill = Material(name="fill", E=5000.0, nu=0.3, unit_weight=20.0, cohesion=5.0, phi=25.0,
+                    tensile_strength=0.0)
+    names = ["lift1", "lift2", "lift3"]
+    solver = PlasticSolver(Model(mesh, dict.fromkeys(names, fill), supports=[
+        Fixed("base"), Roller("left", "x"), Roller("right", "x")]), degree=2)
+    solver.set_active([])
+    for lift in names[:2]:
+        solver.activate([lift], steps=2).require()
+    unplaced = mesh.cells("lift3")
+    n = solver.sspace.num_cells
+    assert solver.plastic_strain.reshape(n, -1)[unplaced].max() == 0.0
+    assert np.abs(solver.stress.reshape(n, -1, 4)[unplaced]).max() == 0.0
+    assert solver.state().yielded_fractions({"lift3": unplaced}) == {"lift3_yielded_fraction": 0.0}

@@ -254,10 +254,11 @@ class PlasticSolver:
         pstrain[:] = self.plastic_strain
         mohr_coulomb_update(self.stress, deps, self.point_material, self.table,
                             self.point_length, stress, tangent, pstrain, yielded, True)
-        if not self.active.all():
+        if not self.active.all():  # fill not yet placed carries nothing and never yields
             off = np.repeat(~self.active, self.disc.num_points)
             stress[off] = 0.0
             tangent[off] = 1e-9 * tangent[off]
+            pstrain[off] = self.plastic_strain[off]
             yielded[off] = 0
         self.sspace.assign(self.stress_q, stress)
         self.tspace.assign(self.tangent_q, tangent)

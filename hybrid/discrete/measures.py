@@ -185,15 +185,16 @@ class Crack(NamedTuple):
     max_slip: float
 
 
-def crack_from_top(state: DiscreteState, column: tuple[float, float], *, min_slip: float,
+def crack_from_top(state: DiscreteState, column: tuple[float, float], *, min_opening: float,
                    top_depth: float) -> Crack:
-    """The failed interfaces connected to the top of a column, e.g. a crack from a crest.
+    """The open failed interfaces connected to the top of a column, e.g. a crack from a crest.
 
     Within the column ``column[0] < x < column[1]`` (reference midpoints) [m]: the failed
-    interfaces whose sides moved apart by at least ``min_slip`` [m] (:func:`interface_slip`:
-    opening and sliding together), those with an end within ``top_depth`` [m] of the column's
-    highest point, and every such interface joined to them through shared vertices (reference
-    geometry). Its depth is measured from that highest point.
+    interfaces whose sides stand apart by at least ``min_opening`` [m] along their normal
+    (:func:`interface_opening`: a crack, not a slip surface sliding closed), those with an
+    end within ``top_depth`` [m] of the column's highest point, and every such interface
+    joined to them through shared vertices (reference geometry). Its depth is measured from
+    that highest point.
     """
     n = state.interface_nodes
     ends = state.x_ref[n[:, :2]]  # (n_if, 2, 2): the interface's two vertices
@@ -204,8 +205,8 @@ def crack_from_top(state: DiscreteState, column: tuple[float, float], *, min_sli
     if column_nodes.size == 0:
         raise ValueError(f"crack_from_top: no node in the column {column} m")
     top = float(state.x_ref[column_nodes, 1].max())
-    slip = interface_slip(state)
-    candidate = np.flatnonzero(~state.interface_intact & in_column & (slip >= min_slip))
+    opening = interface_opening(state)
+    candidate = np.flatnonzero(~state.interface_intact & in_column & (opening >= min_opening))
     vertices = {int(i): [tuple(np.round(v, 9)) for v in ends[i]] for i in candidate}
     by_vertex: dict[tuple, list[int]] = {}
     for i, pair in vertices.items():
@@ -223,8 +224,8 @@ def crack_from_top(state: DiscreteState, column: tuple[float, float], *, min_sli
     mask[sorted(found)] = True
     if not found:
         return Crack(mask, top, 0.0, 0.0, 0.0)
-    return Crack(mask, top, top - float(ends[mask, :, 1].min()),
-                 float(interface_opening(state)[mask].max()), float(slip[mask].max()))
+    return Crack(mask, top, top - float(ends[mask, :, 1].min()), float(opening[mask].max()),
+                 float(interface_slip(state)[mask].max()))
 
 
 class SlopeMovement(NamedTuple):
