@@ -894,3 +894,78 @@ def test_committed_carsington_runs_keep_their_bars(path):
         assert summary["discrete"]["toe_detached_elements"] == 0
         for name in CARSINGTON_KEPT:
             assert checks[name]["passed"], name
+
+
+def _formatted(value: float, quoted: str) -> str:
+    """``value`` written as ``quoted`` was: its decimals, sign, exponent and thousands spaces."""
+    mantissa, _, exponent = quoted.replace(" ", "").partition("e")
+    decimals = len(mantissa.split(".")[1]) if "." in mantissa else 0
+    sign = "+" if quoted.startswith("+") and value >= 0 else ""
+    if exponent:
+        text = f"{value / 10.0 ** int(exponent):.{decimals}f}e{exponent}"
+        return sign + text
+    text = f"{value:,.{decimals}f}"
+    integer = mantissa.lstrip("+-").split(".")[0]
+    grouped = " " in quoted or len(integer) < 4  # the docs group digits in threes from 1 000
+    return sign + (text.replace(",", " ") if grouped else text.replace(",", ""))
+
+
+def _spaced(part: str) -> str:
+    """A regular expression of ``part`` in which any run of whitespace matches any other."""
+    return "".join(r"\s+" if chunk.isspace() else re.escape(chunk)
+                   for chunk in re.split(r"(\s+)", part) if chunk)
+
+
+def refresh(dry_run: bool = False) -> list[str]:
+    """Rewrite every number the docs quote (``QUOTES``) from its results file, each written as
+    it is quoted now (decimals, sign, thousands spaces). Returns what changed, and each quote
+    whose passage is not found once (its words to be mended by hand). Words around the
+    numbers (a "yes", a "not met") are not touched: read the changes."""
+    notes = []
+    for doc, passage, values in QUOTES:
+        path = ROOT / doc
+        text = path.read_text()
+        found = list(re.finditer(NUMBER.join(_spaced(part) for part in passage.split("{}")),
+                                 text))
+        if len(found) != 1:
+            notes.append(f"{doc}: {len(found)} matches for {passage[:60]!r}")
+            continue
+        match, new = found[0], values()
+        if len(new) != len(match.groups()) or any(not math.isfinite(v) for v in new):
+            notes.append(f"{doc}: values {new} do not fit {passage[:60]!r}")
+            continue
+        for k in range(len(new), 0, -1):  # from the end: earlier spans keep their places
+            old = match.group(k)
+            written = _formatted(float(new[k - 1]), old)
+            if written != old:
+                notes.append(f"{doc}: {old} -> {written} in {passage[:50]!r}")
+                text = text[:match.start(k)] + written + text[match.end(k):]
+        if not dry_run:
+            path.write_text(text)
+    return notes
+
+
+if __name__ == "__main__":  # python tests/test_docs_numbers.py [--dry-run]: after `make docs`
+    import sys
+
+    print("\n".join(refresh(dry_run="--dry-run" in sys.argv)) or "every quoted figure is current")
+
+
+@pytest.mark.parametrize(("value", "quoted", "written"), [
+    (1066.9, "1 067", "1 067"), (1048.2, "1 067", "1 048"), (998.4, "1 002", "998"),
+    (1234.4, "998", "1 234"), (12345.0, "1 234", "12 345"), (2026.0, "2025", "2026"),
+    (0.52461, "0.525", "0.525"), (-5.34, "-5.1", "-5.3"), (6.61, "+6.6", "+6.6"),
+    (-0.4, "+6.6", "-0.4"), (0.000123, "1.5e-4", "1.2e-4")])
+def test_a_refreshed_figure_is_written_as_it_was_quoted(value, quoted, written):
+    """``refresh`` writes a new value with the decimals, sign, exponent and thousands spaces of
+    the quote it replaces (the docs group digits in threes from 1 000), and what it writes
+    reads back as the value to the quote's rounding."""
+    assert _formatted(value, quoted) == written
+    number, half = _quoted(written)
+    assert abs(number - value) <= half * (1 + 1e-9)
+
+
+def test_refresh_finds_every_quote_and_leaves_current_docs_alone():
+    """``refresh`` (run by ``make docs`` after the runs) finds each quoted passage once and,
+    the committed docs being current, would change nothing."""
+    assert refresh(dry_run=True) == []
