@@ -138,7 +138,8 @@ QUOTES: list[Quote] = [
     ("docs/carsington.md", "Default run: rest at t = {} s; {} interfaces failed;",
      lambda: [carsington()["discrete"]["time_s"], carsington()["discrete"]["interfaces_failed"]]),
     ("docs/carsington.md", "**a crack at the crest: not found.** Of the failed interfaces that "
-     "parted at least 0.1 m, {} are joined to the crest",
+     "stand open by at least 0.1 m (a crack, not a slip surface sliding closed), {} are joined "
+     "to the crest",
      lambda: [carsington()["discrete"]["crest_crack_interfaces"]]),
     ("docs/carsington.md", "the upstream shoulder moves upstream, {} m on average, but its toe "
      "does not move",
@@ -160,6 +161,9 @@ QUOTES: list[Quote] = [
      "`discrete_softening=true`) | {} | {} | {} | {} |",
      lambda: [_json("docs/summaries/carsington_discrete_softening.json")["parameters"][
          "softening_displacement"], *_cars_discrete("carsington_discrete_softening")]),
+    ("docs/carsington.md", "placed whole the shoulder then runs out about {} times as far as "
+     "observed", lambda: [_soft_disc("carsington_discrete_softening")["toe_runout_m"]
+                          / ref.CARSINGTON_POST_FAILURE["upstream_toe_movement"][0]]),
     ("docs/carsington.md", "the continuum stage {} s (of which the factors of safety {} s), "
      "the discrete stage {} s.",
      lambda: [carsington()["continuum_wall_time_s"],
@@ -169,7 +173,7 @@ QUOTES: list[Quote] = [
      "to the crest) | {} | {} | {} | {} |",
      lambda: [_json("docs/summaries/carsington_design_height.json")["parameters"][
          "yellow_clay_length"], *_cars_discrete("carsington_design_height")]),
-    ("docs/carsington.md", "| 6 | {} | {} | {} | {} | yes | {} |\n"
+    ("docs/carsington.md", "| 6 | {} | {} | {} | {} | no | {} |\n"
      "  | 4 | {} | {} | {} | {} | no | {} |\n  | 3 | {} | {} | {} | {} | no | {} |\n"
      "  | 2 | {} | {} | {} | {} | no | {} |",
      lambda: [v for n in DESIGN_HEIGHT_MESHES for v in _design_height_row(n)]),
@@ -177,7 +181,7 @@ QUOTES: list[Quote] = [
      "observed slide on this mesh, **but the toe not on finer ones**",
      lambda: [*_cars_discrete("carsington_design_height_softening")[:2], 30.0]),
     ("docs/carsington.md", "On the 4 and 3 m meshes the toe advances about half the observed {} m "
-     "(the toe {} % apart, the crest drop {} %), with no crack from the crest;",
+     "(the toe {} % apart, the crest drop {} %);",
      lambda: [12.0, *(100.0 * _rel_spread([_soft_disc(n)[k] for n in DESIGN_HEIGHT_MESHES[1:3]])
                       for k in ("toe_runout_m", "crest_drop_m"))]),
     ("docs/carsington.md", "on the 2 m mesh the section with {} m of yellow clay no longer "
@@ -287,18 +291,18 @@ QUOTES: list[Quote] = [
      lambda: [_soft_disc(n)["toe_runout_m"] for n in SOFT_MESHES] + _soft_sizes(SOFT_MESHES)),
     ("docs/carsington.md", "within the {} % bar on every mesh of {} m and finer",
      lambda: _toe_within_bar()),
-    ("docs/carsington.md", "check passes on the {}, {}, {}, {}, {} and {} m meshes and fails on "
-     "the {} and {} m meshes. Where it is found it runs {} or {} m deep",
-     lambda: [*_crest_crack_meshes(True), *_crest_crack_meshes(False),
-              *sorted({round(_soft_disc(n)["crest_crack_depth_m"], 1) for n in SOFT_MESHES
-                       if _json(f"docs/summaries/{n}.json")["checks"]["crack_at_crest"][
-                           "passed"]})]),
-    ("docs/carsington.md", "from one of those meshes to the next it moves by {}, {}, {} and {} %, "
-     "in {} of those {} steps beyond the {} % mesh bar",
+    ("docs/carsington.md", "The `crack_at_crest` check fails on the {}, {}, {}, {}, {}, {}, {} "
+     "and {} m meshes, and with u_r {} and {} m:",
+     lambda: [*_crest_crack_meshes(False), *[_json(f"docs/summaries/{n}.json")["parameters"][
+         "softening_displacement"] for n in ("carsington_softening_ur0.2",
+                                             "carsington_softening_ur1")
+         if not _json(f"docs/summaries/{n}.json")["checks"]["crack_at_crest"]["passed"]]]),
+    ("docs/carsington.md", "from one of those meshes to the next it moves by {}, {}, {}, {} and "
+     "{} %, in {} of those {} steps beyond the {} % mesh bar",
      lambda: [*_toe_steps()[0], sum(v > 15.0 for v in _toe_steps()[0]),
               len(_toe_steps()[0]), 15.0]),
-    ("docs/carsington.md", "moves from mesh to mesh by up to about one element ({}, {}, {} and "
-     "{} m)", lambda: _toe_steps()[1]),
+    ("docs/carsington.md", "moves from mesh to mesh by up to one and a half elements ({}, {}, {}, "
+     "{} and {} m)", lambda: _toe_steps()[1]),
     ("docs/carsington.md", "The shoulder as a whole moves {}, {}, {}, {}, {}, {}, {} and {} m "
      "upstream on average: {} % apart on the three finest meshes",
      lambda: [-_soft_disc(n)["upstream_shoulder_mean_dx_m"] for n in SOFT_MESHES]
@@ -309,6 +313,9 @@ QUOTES: list[Quote] = [
          "carsington_softening_size3", "carsington_softening_size2.5")])]),
     ("docs/carsington.md", "The node first at the toe moves {}, {}, {}, {}, {}, {}, {} and {} m",
      lambda: [-_soft_disc(n)["upstream_toe_dx_m"] for n in SOFT_MESHES]),
+    ("docs/carsington.md", "its fragment stays up to {} m behind the berm's front",
+     lambda: [max(_soft_disc(n)["toe_runout_m"] + _soft_disc(n)["upstream_toe_dx_m"]
+                  for n in SOFT_MESHES)]),
     ("docs/carsington.md", "With u_r 1 m the toe advances {} m",
      lambda: [_soft_disc("carsington_softening_ur1")["toe_runout_m"]]),
     ("docs/carsington.md", "(the crest drops {} m, the toe advances {} m)",
@@ -637,7 +644,7 @@ def _design_height_row(name: str) -> list[float]:
     crack column is checked here against the run's crack_at_crest check."""
     d = _json(f"docs/summaries/{name}.json")
     found = d["checks"]["crack_at_crest"]["passed"]
-    assert found == (name == DESIGN_HEIGHT_MESHES[0]), name  # "yes" on 6 m, "no" on the others
+    assert not found, name  # "no" on every mesh
     disc = d["discrete"]
     return [d["mesh"]["cells"], d["construction"]["fill_level_m_od"], disc["toe_runout_m"],
             disc["crest_drop_m"], disc["interfaces_failed"]]
@@ -930,7 +937,12 @@ def refresh(dry_run: bool = False) -> list[str]:
         if len(found) != 1:
             notes.append(f"{doc}: {len(found)} matches for {passage[:60]!r}")
             continue
-        match, new = found[0], values()
+        match = found[0]
+        try:
+            new = values()
+        except AssertionError as words:  # a word the quote pins no longer holds
+            notes.append(f"{doc}: {words} in {passage[:60]!r}")
+            continue
         if len(new) != len(match.groups()) or any(not math.isfinite(v) for v in new):
             notes.append(f"{doc}: values {new} do not fit {passage[:60]!r}")
             continue
