@@ -414,9 +414,7 @@ class Material:
         if not (isinstance(factor, int | float) and math.isfinite(factor) and factor > 0):
             raise MaterialError(f"material '{self.name}': strength factor {factor!r} must be a "
                                 "finite number > 0")
-        phi = _reduced_angle(self.phi, factor)
-        peak = Strength(cohesion=self.cohesion / factor, phi=phi,
-                        tensile_strength=_divided(self.tensile_strength, factor))
+        peak = _weakened_strength(self.peak, factor)
         with warnings.catch_warnings():  # reduced angles are degrees, whatever their size
             warnings.simplefilter("ignore", MaterialWarning)
             bond = Bond(cohesion=_divided(self.bond.cohesion, factor),
@@ -424,8 +422,7 @@ class Material:
                         tensile_strength=_divided(self.bond.tensile_strength, factor))
             contact = replace(self.contact, phi=_reduced_optional(self.contact.phi, factor),
                               cohesion=_divided(self.contact.cohesion, factor))
-            return replace(self, cohesion=peak.cohesion, phi=phi,
-                           psi=min(_reduced_angle(self.psi, factor), phi),
+            return replace(self, cohesion=peak.cohesion, phi=peak.phi, psi=peak.psi,
                            plastic=self.is_plastic, tensile_strength=peak.tensile_strength,
                            residual=(None if self.residual is None else _weakened_strength(
                                self.residual, factor, peak.cutoff)),

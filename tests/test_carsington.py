@@ -220,7 +220,7 @@ def test_carsington_thesis_mesh(case, tmp_path):
     # bars of the discrete phase (the thesis's description, 6.3.2): at rest, the slip surface
     # (failed interfaces that slipped >= 0.1 m) through the yellow clay, the core's boot and
     # the core above it, the shoulder upstream. The thesis's crack from the crest is not found
-    # with these strengths (docs/carsington.md: the softening analysis has it on most meshes)
+    # open at rest (docs/carsington.md: nor in the softening analysis)
     d = summary["discrete"]
     assert d["stop"] == "rest"
     for name in ("slip_surface_through_yellow_clay",

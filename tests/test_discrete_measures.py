@@ -80,7 +80,7 @@ def test_crack_from_top_follows_connected_failed_interfaces_down():
     st, mid = _column_with_cracks([2, 0])
     crack = crack_from_top(st, (0.5, 1.5), min_opening=0.1, top_depth=0.01)
     assert mid[crack.interfaces, 1].tolist() == [2.5] and crack.depth == pytest.approx(1.0)
-    # nothing reaches the top, or it moved less than min_slip: no crack
+    # nothing reaches the top, or it opened less than min_opening: no crack
     st, _ = _column_with_cracks([0])
     assert crack_from_top(st, (0.5, 1.5), min_opening=0.1, top_depth=0.01).depth == 0.0
     st, _ = _column_with_cracks([2])

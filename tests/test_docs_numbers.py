@@ -219,9 +219,8 @@ QUOTES: list[Quote] = [
      "| 3 | {} | {} | lift {} (to {}), {} % | {} | {} |\n| 2 | {} | {} | lift {} (to {}), {} % | "
      "{} | {} |", lambda: [v for n in ("carsington", "carsington_size3", "carsington_size2")
                            for v in _continuum_mesh_row(n)]),
-    ("docs/carsington.md", "the crest drop stays within the {} % bar ({}-{} m on the finer meshes)",
-     lambda: [100.0 * carsington()["checks"]["crest_drop"]["bar"]]
-     + [f(_soft_disc(n)["crest_drop_m"] for n in DESIGN_HEIGHT_MESHES[1:]) for f in (min, max)]),
+    ("docs/carsington.md", "the crest drop is within {} % of the observed {} m on the 4 and 3 m "
+     "meshes ({} and {} m) but not on the 2 m one ({} m)", lambda: _design_height_crest()),
     ("docs/carsington.md", "on the 3 and 2 m meshes 190 m OD, lift 4 collapsing at {} and {} % of "
      "its weight", lambda: [_continuum_mesh_row(n)[4] for n in ("carsington_size3",
                                                                "carsington_size2")]),
@@ -286,6 +285,11 @@ QUOTES: list[Quote] = [
      lambda: _cars_crest_spread()[:6]),
     ("docs/carsington.md", "runs those two) and {} % from the 2 m to the 1.5 m mesh",
      lambda: _cars_crest_spread()[6:]),
+    ("docs/carsington.md", "from each of the eight meshes to the next it moves by {}, {}, {}, {}, "
+     "{}, {} and {} %", lambda: _steps([_soft_disc(n)["crest_drop_m"] for n in SOFT_MESHES])),
+    ("docs/carsington.md", "next within the {} % mesh bar in all but {} of {} steps.**",
+     lambda: [15.0, *(lambda v: [sum(x > 15.0 for x in v), len(v)])(
+         _steps([_soft_disc(n)["crest_drop_m"] for n in SOFT_MESHES]))]),
     ("docs/carsington.md", "The upstream toe advances {}, {}, {}, {}, {}, {}, {} and {} m on the "
      "{}, {}, {}, {}, {}, {}, {} and {} m meshes",
      lambda: [_soft_disc(n)["toe_runout_m"] for n in SOFT_MESHES] + _soft_sizes(SOFT_MESHES)),
@@ -293,7 +297,7 @@ QUOTES: list[Quote] = [
      lambda: _toe_within_bar()),
     ("docs/carsington.md", "The `crack_at_crest` check fails on the {}, {}, {}, {}, {}, {}, {} "
      "and {} m meshes, and with u_r {} and {} m:",
-     lambda: [*_crest_crack_meshes(False), *[_json(f"docs/summaries/{n}.json")["parameters"][
+     lambda: [*_crest_crack_meshes(), *[_json(f"docs/summaries/{n}.json")["parameters"][
          "softening_displacement"] for n in ("carsington_softening_ur0.2",
                                              "carsington_softening_ur1")
          if not _json(f"docs/summaries/{n}.json")["checks"]["crack_at_crest"]["passed"]]]),
@@ -707,21 +711,36 @@ def _toe_within_bar() -> list[float]:
     return [100.0 * bar, _soft_sizes(SOFT_MESHES)[k] if k < len(ok) else math.nan]
 
 
+def _steps(values: list[float]) -> list[float]:
+    """The change from each value to the next: larger over smaller minus one [%]."""
+    return [100.0 * (max(a, b) / min(a, b) - 1.0) for a, b in zip(values, values[1:])]
+
+
 def _toe_steps() -> tuple[list[float], list[float]]:
     """The toe's change from each mesh to the next over the meshes that meet the observed
-    bar (``_toe_within_bar``: 4 m and finer): larger over smaller minus one [%], and its
-    size [m]."""
+    bar (``_toe_within_bar``: the coarsest such mesh and the finer ones): larger over
+    smaller minus one [%], and its size [m]."""
     first = _soft_sizes(SOFT_MESHES).index(_toe_within_bar()[1])
     toe = [_soft_disc(n)["toe_runout_m"] for n in SOFT_MESHES[first:]]
-    pairs = list(zip(toe, toe[1:]))
-    return ([100.0 * (max(a, b) / min(a, b) - 1.0) for a, b in pairs],
-            [abs(b - a) for a, b in pairs])
+    return _steps(toe), [abs(b - a) for a, b in zip(toe, toe[1:])]
 
 
-def _crest_crack_meshes(found: bool) -> list[float]:
-    """The sizes [m] of the softening meshes whose crest-crack check passed (or failed)."""
-    return [size for n, size in zip(SOFT_MESHES, _soft_sizes(SOFT_MESHES), strict=True)
-            if _json(f"docs/summaries/{n}.json")["checks"]["crack_at_crest"]["passed"] == found]
+def _design_height_crest() -> list[float]:
+    """The bar [%] and observed crest drop [m], the design-height runs' crest drops on the 4
+    and 3 m meshes (within the bar) and on the 2 m mesh (not within it) [m]."""
+    observed = ref.CARSINGTON_POST_FAILURE["crest_drop"][0]
+    drops = [_soft_disc(n)["crest_drop_m"] for n in DESIGN_HEIGHT_MESHES[1:]]
+    within = [abs(d / observed - 1.0) <= 0.30 for d in drops]
+    assert within == [True, True, False], drops
+    return [30.0, observed, *drops]
+
+
+def _crest_crack_meshes() -> list[float]:
+    """The sizes [m] of the softening meshes whose crest-crack check failed (nan if one
+    passed: the docs say it fails on every mesh)."""
+    passed = [_json(f"docs/summaries/{n}.json")["checks"]["crack_at_crest"]["passed"]
+              for n in SOFT_MESHES]
+    return [math.nan] if any(passed) else _soft_sizes(SOFT_MESHES)
 
 
 def _soft_disc(name: str) -> dict[str, Any]:
@@ -908,11 +927,13 @@ def _formatted(value: float, quoted: str) -> str:
     mantissa, _, exponent = quoted.replace(" ", "").partition("e")
     decimals = len(mantissa.split(".")[1]) if "." in mantissa else 0
     sign = "+" if quoted.startswith("+") and value >= 0 else ""
+    integer = mantissa.lstrip("+-").split(".")[0]
     if exponent:
         text = f"{value / 10.0 ** int(exponent):.{decimals}f}e{exponent}"
         return sign + text
     text = f"{value:,.{decimals}f}"
-    integer = mantissa.lstrip("+-").split(".")[0]
+    if float(text.replace(",", "")) == 0.0:
+        text = text.lstrip("-")  # no "-0.00"
     grouped = " " in quoted or len(integer) < 4  # the docs group digits in threes from 1 000
     return sign + (text.replace(",", " ") if grouped else text.replace(",", ""))
 
@@ -924,10 +945,13 @@ def _spaced(part: str) -> str:
 
 
 def refresh(dry_run: bool = False) -> list[str]:
-    """Rewrite every number the docs quote (``QUOTES``) from its results file, each written as
-    it is quoted now (decimals, sign, thousands spaces). Returns what changed, and each quote
-    whose passage is not found once (its words to be mended by hand). Words around the
-    numbers (a "yes", a "not met") are not touched: read the changes."""
+    """Rewrite every number the docs quote (``QUOTES``) that its results file no longer gives.
+
+    A number still right to the rounding it is quoted with is left; another is written as it
+    is quoted now (decimals, sign, thousands spaces). Returns what changed, and each quote
+    whose passage is not found once or whose values cannot be had (its words to be mended by
+    hand). Words around the numbers (a "yes", a "not met") are not touched: read the changes.
+    """
     notes = []
     for doc, passage, values in QUOTES:
         path = ROOT / doc
@@ -940,14 +964,17 @@ def refresh(dry_run: bool = False) -> list[str]:
         match = found[0]
         try:
             new = values()
-        except AssertionError as words:  # a word the quote pins no longer holds
-            notes.append(f"{doc}: {words} in {passage[:60]!r}")
+        except Exception as words:  # a word the quote pins no longer holds, or its data
+            notes.append(f"{doc}: {type(words).__name__} {words} in {passage[:60]!r}")
             continue
         if len(new) != len(match.groups()) or any(not math.isfinite(v) for v in new):
             notes.append(f"{doc}: values {new} do not fit {passage[:60]!r}")
             continue
         for k in range(len(new), 0, -1):  # from the end: earlier spans keep their places
             old = match.group(k)
+            number, half = _quoted(old)
+            if abs(number - float(new[k - 1])) <= half * (1 + 1e-9):
+                continue  # still right to the rounding it is quoted with (the test's rule)
             written = _formatted(float(new[k - 1]), old)
             if written != old:
                 notes.append(f"{doc}: {old} -> {written} in {passage[:50]!r}")
@@ -957,17 +984,11 @@ def refresh(dry_run: bool = False) -> list[str]:
     return notes
 
 
-if __name__ == "__main__":  # python tests/test_docs_numbers.py [--dry-run]: after `make docs`
-    import sys
-
-    print("\n".join(refresh(dry_run="--dry-run" in sys.argv)) or "every quoted figure is current")
-
-
 @pytest.mark.parametrize(("value", "quoted", "written"), [
     (1066.9, "1 067", "1 067"), (1048.2, "1 067", "1 048"), (998.4, "1 002", "998"),
     (1234.4, "998", "1 234"), (12345.0, "1 234", "12 345"), (2026.0, "2025", "2026"),
     (0.52461, "0.525", "0.525"), (-5.34, "-5.1", "-5.3"), (6.61, "+6.6", "+6.6"),
-    (-0.4, "+6.6", "-0.4"), (0.000123, "1.5e-4", "1.2e-4")])
+    (-0.4, "+6.6", "-0.4"), (0.000123, "1.5e-4", "1.2e-4"), (-0.001, "0.05", "0.00")])
 def test_a_refreshed_figure_is_written_as_it_was_quoted(value, quoted, written):
     """``refresh`` writes a new value with the decimals, sign, exponent and thousands spaces of
     the quote it replaces (the docs group digits in threes from 1 000), and what it writes
@@ -978,6 +999,12 @@ def test_a_refreshed_figure_is_written_as_it_was_quoted(value, quoted, written):
 
 
 def test_refresh_finds_every_quote_and_leaves_current_docs_alone():
-    """``refresh`` (run by ``make docs`` after the runs) finds each quoted passage once and,
-    the committed docs being current, would change nothing."""
+    """``refresh`` (run by ``make docs`` after the runs) finds each quoted passage once, gets
+    its values and, the committed docs being current, would change nothing."""
     assert refresh(dry_run=True) == []
+
+
+if __name__ == "__main__":  # python tests/test_docs_numbers.py [--dry-run]: after `make docs`
+    import sys
+
+    print("\n".join(refresh(dry_run="--dry-run" in sys.argv)) or "every quoted figure is current")
