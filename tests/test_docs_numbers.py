@@ -729,10 +729,11 @@ def _design_height_crest() -> list[float]:
     """The bar [%] and observed crest drop [m], the design-height runs' crest drops on the 4
     and 3 m meshes (within the bar) and on the 2 m mesh (not within it) [m]."""
     observed = ref.CARSINGTON_POST_FAILURE["crest_drop"][0]
+    bar = carsington()["checks"]["crest_drop"]["bar"]  # the case's bar on observed movements
     drops = [_soft_disc(n)["crest_drop_m"] for n in DESIGN_HEIGHT_MESHES[1:]]
-    within = [abs(d / observed - 1.0) <= 0.30 for d in drops]
+    within = [abs(d / observed - 1.0) <= bar for d in drops]
     assert within == [True, True, False], drops
-    return [30.0, observed, *drops]
+    return [100.0 * bar, observed, *drops]
 
 
 def _crest_crack_meshes() -> list[float]:
@@ -979,7 +980,7 @@ def refresh(dry_run: bool = False) -> list[str]:
             if written != old:
                 notes.append(f"{doc}: {old} -> {written} in {passage[:50]!r}")
                 text = text[:match.start(k)] + written + text[match.end(k):]
-        if not dry_run:
+        if not dry_run and text != path.read_text():
             path.write_text(text)
     return notes
 

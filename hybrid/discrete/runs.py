@@ -60,10 +60,10 @@ class LoadProgram(_Unloading):
     From ``t_start`` [s] the load value goes linearly from ``start`` to ``peak`` over
     ``ramp_time`` [s] and is held; when ``measure()`` reaches ``target`` (or after
     ``max_time`` [s] of loading) it falls linearly to 0 over ``ramp_time`` from the value it
-    had reached. ``apply(value)``
-    sets the load (e.g. a handover's ``set_load_factor`` scaled to a pressure). Called at
-    every check, it returns True once the load is removed (the run stops there). Its progress
-    is saved in checkpoints (``state``/``restore``), so a resumed run continues it.
+    had reached. ``apply(value)`` sets the load (e.g. a handover's ``set_load_factor`` scaled
+    to a pressure). Called at every check, it returns True once the load is removed (the run
+    stops there). Its progress is saved in checkpoints (``state``/``restore``), so a resumed
+    run continues it.
 
     ``curve`` holds (measure, load) at every check; ``t_unload`` the time of the unloading
     (from ``t_start``) and ``at_unloading`` the measure then (None before).
