@@ -9,6 +9,7 @@ import pytest
 from hybrid.discrete import rectangle
 from hybrid.discrete.figures import Snapshots
 from hybrid.discrete.measures import (
+    CrackWatch,
     SlipSurface,
     SlopeMarks,
     crack_from_top,
@@ -19,6 +20,7 @@ from hybrid.discrete.measures import (
     slip_surface,
     slip_trace,
     slipped_interfaces,
+    surface_opening,
 )
 from hybrid.materials import Material
 
@@ -195,3 +197,41 @@ def test_moving_zone_back_finds_a_wedge_and_ignores_a_flung_fragment():
     angle, a = moving_zone_back(st, everything, 10.0, 0.5, 0.05)
     assert abs(angle - 60.0) < 1.5 and abs(a - 1.0) < 0.5
     assert np.isnan(moving_zone_back(st, everything, 10.0, 0.5, 1.0)[0])  # nothing moved 1 m
+
+
+def test_crack_watch_keeps_a_crack_that_closed_before_rest():
+    """The deepest crack from the top over a run, though it closed again by the end (what
+    crack_from_top at rest misses), its first time and the widest opening at the surface."""
+    class Run:  # what the watch reads of a solver: its state
+        def __init__(self, state):
+            self.state = state
+
+    watch = CrackWatch((0.5, 1.5), min_opening=0.1, top_depth=0.01)
+    stages = [([], 0.0), ([2], 1.0), ([2, 1], 2.0), ([2, 1], 3.0)]
+    for rows, time in stages:
+        st, _ = _column_with_cracks(rows)
+        st.time = time
+        if time == 3.0:  # closed again: the failed interfaces' sides back together
+            st.x[:] = st.x_ref
+        watch.checked(Run(st), None)
+    assert not crack_from_top(st, (0.5, 1.5), min_opening=0.1, top_depth=0.01).interfaces.any()
+    assert watch.seen and watch.first_time == 1.0 and watch.deepest_time == 2.0
+    assert watch.depth == pytest.approx(2.0) and watch.interfaces == 2
+    assert watch.max_opening == pytest.approx(0.2)
+    assert watch.surface_opening == pytest.approx(0.2) and watch.checks == 4
+    summary = watch.summary("crack")
+    assert summary["crack_seen"] and summary["crack_deepest_m"] == pytest.approx(2.0)
+    # a checkpoint restores what it had seen
+    again = CrackWatch((0.5, 1.5), min_opening=0.1, top_depth=0.01)
+    again.restore(watch.state())
+    assert again.summary("crack") == summary
+    # never open: none seen, times None; a crack narrower than min_opening is still a width
+    # at the surface
+    narrow = CrackWatch((0.5, 1.5), min_opening=0.5, top_depth=0.01)
+    st, _ = _column_with_cracks([2])
+    narrow.checked(Run(st), None)
+    assert not narrow.seen and narrow.summary("c")["c_first_time_s"] is None
+    assert narrow.surface_opening == pytest.approx(0.2)
+    assert surface_opening(st, (0.5, 1.5), top_depth=0.01) == pytest.approx(0.2)
+    st, _ = _column_with_cracks([0])  # failed below the top only
+    assert surface_opening(st, (0.5, 1.5), top_depth=0.01) == 0.0

@@ -12,19 +12,22 @@ the inclination of the back of the zone that moved (an active wedge behind a wal
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any, NamedTuple
 
 import numpy as np
 
+from hybrid.discrete.ledger import EnergyLedger
+from hybrid.discrete.solver import ExplicitSolver, Observer
 from hybrid.discrete.state import DiscreteState
 from hybrid.io import Check
 
 __all__ = ["interface_slip", "slip_surface", "slip_trace", "slipped_interfaces", "SlipSurface",
            "SlopeMarks", "SlopeMovement", "FootingMarks", "Deposit", "deposit",
            "mean_displacement", "moving_zone_back", "MOVING_FRACTION", "interface_opening",
-           "Crack", "crack_from_top"]
+           "Crack", "crack_from_top", "CrackWatch", "surface_opening"]
 
 #: The zone that moves with a wall (or a slope face): elements that have moved at least this
 #: fraction of the face's own movement [-]. Small enough to reach the back of the slip, large
@@ -185,6 +188,36 @@ class Crack(NamedTuple):
     max_slip: float
 
 
+def _column_top(state: DiscreteState, column: tuple[float, float]
+                ) -> tuple[np.ndarray, np.ndarray, float]:
+    """The interfaces' reference ends, which of them lie in a column, and the column's top.
+
+    Returns (ends (n_if, 2, 2), in ``column`` by midpoint (n_if,), highest reference
+    elevation of a node in ``column`` [m]).
+    """
+    ends = state.x_ref[state.interface_nodes[:, :2]]
+    mid = ends.mean(axis=1)
+    in_column = (mid[:, 0] > column[0]) & (mid[:, 0] < column[1])
+    nodes = np.unique(state.element_nodes)
+    column_nodes = nodes[(state.x_ref[nodes, 0] > column[0]) & (state.x_ref[nodes, 0] < column[1])]
+    if column_nodes.size == 0:
+        raise ValueError(f"no node in the column {column} m (reference x): give the x-range "
+                         "of the surface to search")
+    return ends, in_column, float(state.x_ref[column_nodes, 1].max())
+
+
+def surface_opening(state: DiscreteState, column: tuple[float, float], *,
+                    top_depth: float) -> float:
+    """A crack's width at the surface [m]: the largest opening of a failed interface.
+
+    Of the failed interfaces in ``column`` with an end within ``top_depth`` [m] of its highest
+    point (:func:`crack_from_top`'s top); 0 when none stands open.
+    """
+    ends, in_column, top = _column_top(state, column)
+    at_top = ~state.interface_intact & in_column & (ends[:, :, 1].max(axis=1) >= top - top_depth)
+    return max(float(interface_opening(state)[at_top].max(initial=0.0)), 0.0)
+
+
 def crack_from_top(state: DiscreteState, column: tuple[float, float], *, min_opening: float,
                    top_depth: float) -> Crack:
     """The open failed interfaces connected to the top of a column, e.g. a crack from a crest.
@@ -196,15 +229,8 @@ def crack_from_top(state: DiscreteState, column: tuple[float, float], *, min_ope
     joined to them through shared vertices (reference geometry). Its depth is measured from
     that highest point.
     """
+    ends, in_column, top = _column_top(state, column)
     n = state.interface_nodes
-    ends = state.x_ref[n[:, :2]]  # (n_if, 2, 2): the interface's two vertices
-    mid = ends.mean(axis=1)
-    in_column = (mid[:, 0] > column[0]) & (mid[:, 0] < column[1])
-    nodes = np.unique(state.element_nodes)
-    column_nodes = nodes[(state.x_ref[nodes, 0] > column[0]) & (state.x_ref[nodes, 0] < column[1])]
-    if column_nodes.size == 0:
-        raise ValueError(f"crack_from_top: no node in the column {column} m")
-    top = float(state.x_ref[column_nodes, 1].max())
     opening = interface_opening(state)
     candidate = np.flatnonzero(~state.interface_intact & in_column & (opening >= min_opening))
     vertices = {int(i): [tuple(np.round(v, 9)) for v in ends[i]] for i in candidate}
@@ -226,6 +252,91 @@ def crack_from_top(state: DiscreteState, column: tuple[float, float], *, min_ope
         return Crack(mask, top, 0.0, 0.0, 0.0)
     return Crack(mask, top, top - float(ends[mask, :, 1].min()), float(opening[mask].max()),
                  float(interface_slip(state)[mask].max()))
+
+
+class CrackWatch(Observer):
+    """The deepest crack from the top of a column over a run (:func:`crack_from_top` at checks).
+
+    A crack that opens during a slide may close again before rest, where
+    :func:`crack_from_top` alone would not see it. At every check of the run (the solver's
+    ``check_every`` steps) the crack is measured; the watch keeps when one was first open, the
+    deepest (its time, depth, interfaces and largest opening) and the largest opening of any.
+    It also keeps the widest opening at the surface, whatever ``min_opening``: the largest
+    opening of a failed interface with an end within ``top_depth`` of the top (a crack's width
+    at the crest, as surveyed on a dam). It only reads the state, and is part of the solver's
+    checkpoints.
+
+    Args:
+        column, min_opening, top_depth: as :func:`crack_from_top`.
+    """
+
+    def __init__(self, column: tuple[float, float], *, min_opening: float,
+                 top_depth: float) -> None:
+        """An empty watch: no crack seen yet."""
+        self.column, self.min_opening, self.top_depth = column, min_opening, top_depth
+        self.first_time = math.nan  # first check with a crack [s] (nan: none yet)
+        self.deepest_time = math.nan  # check with the deepest crack [s]
+        self.depth = 0.0  # the deepest crack's depth [m]
+        self.interfaces = 0  # its interfaces
+        self.opening_at_deepest = 0.0  # its largest opening [m]
+        self.max_opening = 0.0  # the largest opening of any crack seen [m]
+        self.surface_opening = 0.0  # the widest failed interface at the top [m]
+        self.checks = 0  # checks watched
+
+    def checked(self, solver: ExplicitSolver, ledger: EnergyLedger) -> None:
+        """Measure the crack now; keep it if it is the first or the deepest."""
+        state = solver.state
+        crack = crack_from_top(state, self.column, min_opening=self.min_opening,
+                               top_depth=self.top_depth)
+        self.checks += 1
+        self.surface_opening = max(self.surface_opening, surface_opening(
+            state, self.column, top_depth=self.top_depth))
+        if not crack.interfaces.any():
+            return
+        if math.isnan(self.first_time):
+            self.first_time = state.time
+        self.max_opening = max(self.max_opening, crack.max_opening)
+        if crack.depth > self.depth:
+            self.depth, self.deepest_time = crack.depth, state.time
+            self.interfaces = int(crack.interfaces.sum())
+            self.opening_at_deepest = crack.max_opening
+
+    @property
+    def seen(self) -> bool:
+        """A crack from the top was open at a check."""
+        return not math.isnan(self.first_time)
+
+    def summary(self, prefix: str) -> dict[str, Any]:
+        """Its figures for a summary, keys ``{prefix}_...`` (times [s], lengths [m]).
+
+        "_seen", "_first_time_s", "_deepest_m", "_deepest_time_s", "_deepest_interfaces",
+        "_deepest_max_opening_m", "_max_opening_m", "_surface_opening_m", "_checks" (times
+        None when none seen).
+        """
+        def time(t: float) -> float | None:
+            return None if math.isnan(t) else t
+
+        return {f"{prefix}_seen": self.seen, f"{prefix}_first_time_s": time(self.first_time),
+                f"{prefix}_deepest_m": self.depth,
+                f"{prefix}_deepest_time_s": time(self.deepest_time),
+                f"{prefix}_deepest_interfaces": self.interfaces,
+                f"{prefix}_deepest_max_opening_m": self.opening_at_deepest,
+                f"{prefix}_max_opening_m": self.max_opening,
+                f"{prefix}_surface_opening_m": self.surface_opening,
+                f"{prefix}_checks": self.checks}
+
+    _FIELDS = ("first_time", "deepest_time", "depth", "interfaces", "opening_at_deepest",
+               "max_opening", "surface_opening", "checks")
+
+    def state(self) -> dict[str, np.ndarray]:
+        """What it has seen, for checkpoints."""
+        return {"seen": np.array([float(getattr(self, f)) for f in self._FIELDS])}
+
+    def restore(self, saved: dict[str, np.ndarray]) -> None:
+        """Continue from :meth:`state`."""
+        if "seen" in saved:
+            for f, v in zip(self._FIELDS, saved["seen"]):
+                setattr(self, f, int(v) if f in ("interfaces", "checks") else float(v))
 
 
 class SlopeMovement(NamedTuple):

@@ -22,7 +22,7 @@ from hybrid.discrete.energy import conservation_checks, energy_peak_ratio
 from hybrid.discrete.figures import Snapshots, plot_configuration
 from hybrid.discrete.ledger import support_work
 from hybrid.discrete.outputs import frame_interval, standard_outputs
-from hybrid.discrete.solver import ExplicitSolver, RunOptions, RunResult
+from hybrid.discrete.solver import ExplicitSolver, Observer, RunOptions, RunResult
 from hybrid.discrete.state import DiscreteState
 from hybrid.io import Check
 
@@ -338,7 +338,8 @@ def run_to_rest(state: DiscreteState, out: str | Path, options: RunOptions, *,
                 frames: int = 0, snapshot_times: Sequence[float] = (),
                 window: tuple[float, float, float, float] | None = None,
                 progress: bool = True, prefix: str = "discrete_",
-                check_every: int = 50, material_names: Sequence[str] = ()) -> RestRun:
+                check_every: int = 50, material_names: Sequence[str] = (),
+                watch: Sequence[Observer] = ()) -> RestRun:
     """Run ``state`` (advanced in place) to rest, or to ``until_time``, with outputs.
 
     Writes in ``out``: ``{prefix}t0.png`` (the start: plastic strain, bonds intact),
@@ -361,6 +362,8 @@ def run_to_rest(state: DiscreteState, out: str | Path, options: RunOptions, *,
         prefix: start of the figures' file names.
         check_every: steps between the run's checks (rest, snapshots, energy history).
         material_names: the materials' names by index, written in the series' index.
+        watch: more observers of the run (e.g. :class:`~hybrid.discrete.measures.CrackWatch`),
+            attached after the standard outputs.
     """
     out = Path(out)
     if frames and options.dt is None:
@@ -373,7 +376,7 @@ def run_to_rest(state: DiscreteState, out: str | Path, options: RunOptions, *,
     every = frame_interval(until_time, options.dt, frames) if options.dt is not None else 0
     n_elements, mass = state.n_elements, float(state.mass.sum())
     observers = standard_outputs(out / "discrete", progress=progress, output_every=every,
-                                 material_names=material_names)
+                                 material_names=material_names) + list(watch)
     with ExplicitSolver(state, options, observers=observers) as solver:
         result = solver.run(until_time=until_time, until_rest=rest,
                             rest_min_steps=rest_min_steps, on_check=snapshots,
