@@ -98,14 +98,14 @@ def main(out: str | Path = "results/fe_de_interaction", **overrides) -> CaseSumm
         "base_reaction": Check(abs(float(np.sum(st.internal_force[base, 1]))), q * B, 0.01,
                                "kN/m", "global equilibrium: reaction = q B"),
         "energy_excess_over_sources": Check(
-            energy_excess(h), 0.0, 0.01, "-",
+            energy_excess(h, res.start), 0.0, 0.01, "-",
             "E_kin + E_strain + E_contact <= E(0) + work of the load"),
         **res.rest_checks(p.rest),
     }
     summary = CaseSummary("fe_de_interaction (D6)", out, p, results={
         "dt": res.dt, "steps": res.steps, "time": res.time,
         "stop_reason": res.stop_reason, "wall_time": res.wall_time,
-        "energy_peak_over_supply": energy_peak_ratio(h),
+        "energy_peak_over_supply": energy_peak_ratio(h, res.start),
         "block_settlement": float(-(st.x - xr)[st.element_nodes[n_ass:], 1].mean())},
         checks=checks)
     plot_energy(out / "energy.png", h)

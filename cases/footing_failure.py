@@ -262,7 +262,8 @@ def main(out: str | Path = "results/footing_failure", **overrides) -> CaseSummar
         settled = solver.run(until_rest=p.rest, max_steps=200_000, phase="rest")
     settlement = marks.settlement(disc)
     curve_discrete = [*program.curve, (settlement, 0.0)]  # ending at rest
-    excess = max(energy_excess(loaded.history), energy_excess(settled.history))
+    excess = max(energy_excess(loaded.history, loaded.start),
+                 energy_excess(settled.history, settled.start))
     h = settled.history
     steps = loaded.steps + settled.steps
     wall = loaded.wall_time + settled.wall_time
@@ -278,8 +279,8 @@ def main(out: str | Path = "results/footing_failure", **overrides) -> CaseSummar
         "max_heave_beside_footing_m": marks.heave(disc),
         "interfaces_failed": int((~disc.interface_intact).sum()),
         "interfaces": int(disc.interface_intact.size),
-        "energy_peak_over_supply": max(energy_peak_ratio(loaded.history),
-                                       energy_peak_ratio(h)),
+        "energy_peak_over_supply": max(energy_peak_ratio(loaded.history, loaded.start),
+                                       energy_peak_ratio(h, settled.start)),
         "steps": steps, "wall_time_s": wall, "stop": settled.stop_reason,
         "element_steps_per_s": steps * disc.n_elements / max(wall, 1e-9),
         "outputs": [str(f) for f in solver.files if f.suffix != ".png"],

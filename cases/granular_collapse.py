@@ -173,7 +173,7 @@ def main(out: str | Path = "results/granular_collapse", **overrides) -> CaseSumm
     height = dep.height / H0
     refs = references(p.aspect)
     checks = {
-        **conservation_checks(h, disc, n0, mass0),
+        **conservation_checks(h, res.start, disc, n0, mass0),
         **res.rest_checks(p.rest),
     }
     # a deposit still moving is no final profile: compared only at rest
@@ -191,7 +191,7 @@ def main(out: str | Path = "results/granular_collapse", **overrides) -> CaseSumm
         "steps": res.steps, "time_s": res.time, "stop": res.stop_reason,
         "wall_time_s": res.wall_time, "element_steps_per_s": res.element_steps_per_s,
         "interfaces_failed": int((~disc.interface_intact).sum()),
-        "energy_peak_over_supply": energy_peak_ratio(h),
+        "energy_peak_over_supply": energy_peak_ratio(h, res.start),
     }
     summary["deposit"] = {
         "runout_m": dep.runout, "height_m": dep.height, "normalised_runout": runout,

@@ -234,7 +234,8 @@ def main(out: str | Path = "results/retaining_wall_collapse", **overrides) -> Ca
     checks["wedge_angle"] = Check(angle, 45.0 + p.phi / 2.0, 5.0 / (45.0 + p.phi / 2.0), "deg",
                                   f"45 + phi/2, within 5 deg; face top moved {p.wedge_at:g} m")
     checks["energy_excess_over_sources"] = Check(
-        energy_excess(h), 0.0, 0.01, "-", "E_kin + E_strain + E_contact <= E(0) + work of gravity")
+        energy_excess(h, res.start), 0.0, 0.01, "-",
+        "E_kin + E_strain + E_contact <= E(0) + work of gravity")
     checks.update(res.rest_checks(p.rest))
     checks["elements_conserved"] = Check(float(disc.n_elements), float(n0), 0.0)
     checks["mass_conserved"] = Check(float(disc.mass.sum()), mass0, 1e-12, "t/m")
@@ -248,7 +249,7 @@ def main(out: str | Path = "results/retaining_wall_collapse", **overrides) -> Ca
         "toe_x_m": toe, "runout_m": -toe, "detached_elements": spread.detached,
         "farthest_element_x_m": float(disc.x[sand_nodes, 0].min()),
         "final_slope_deg": final_slope(disc, sand_nodes, p.height),
-        "energy_peak_over_supply": energy_peak_ratio(h),
+        "energy_peak_over_supply": energy_peak_ratio(h, res.start),
     }
     summary.write(out / "summary.json")
     plot_energy(out / "energy.png", h)

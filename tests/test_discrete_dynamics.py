@@ -142,14 +142,62 @@ def test_bbar_bending_mode_has_no_volumetric_stress():
     np.testing.assert_allclose(results[True][0, :, 3], results[False][0, :, 3], rtol=1e-9)
 
 
-def test_dt_above_stable_limit_refused():
+def test_dt_above_critical_step_refused():
     st = rectangle(4.0, 4.0, 4, 4, material=ROCK)
-    crit = integrate.stable_time_step(st)
+    scale = integrate.stable_time_step(st)
     # c_p = sqrt((K + 4G/3)/rho), L_min = 1 m for unit squares: closed form to 1e-12
     cp = math.sqrt((ROCK.bulk_modulus + 4 * ROCK.shear_modulus / 3) / ROCK.density)
-    assert crit == pytest.approx(1.0 / cp, rel=1e-12)
-    with pytest.raises(ValueError, match="above the stable time step"):
+    assert scale == pytest.approx(1.0 / cp, rel=1e-12)
+    crit = integrate.critical_time_step(st)
+    assert crit < scale  # the Courant scale is no bound (test_critical_time_step_is_the_limit)
+    with pytest.raises(ValueError, match="above the critical time step"):
         run(st, max_steps=1, dt=1.01 * crit)
+
+
+def _free_run(st, dt, steps=3000):
+    """|v|max after ``steps`` from a small random velocity at ``dt``, the check bypassed
+    (None: the run was stopped as unstable)."""
+    from hybrid.discrete import solver as solver_mod
+    from hybrid.errors import RunUnstable
+
+    st.gravity[:] = 0.0
+    st.v[:] = 1e-6 * np.random.default_rng(1).standard_normal(st.v.shape)
+    orig = solver_mod.integrate.check_dt
+    try:
+        solver_mod.integrate.check_dt = lambda *a, **k: dt
+        run(st, max_steps=steps, dt=dt, split_every=0)
+    except RunUnstable:
+        return None
+    finally:
+        solver_mod.integrate.check_dt = orig
+    return float(np.abs(st.v).max())
+
+
+@pytest.mark.parametrize("nu", [0.3, 0.49])
+def test_critical_time_step_is_the_limit(nu):
+    """critical_time_step is the stability limit of a free Q4 (2 / omega_max of the element
+    kernel's own tangent): a run at 0.98 x it stays at its small start velocity, at 1.02 x
+    it grows without bound. On a tied 6 x 6 mesh it is a lower bound (element eigenvalue
+    theorem): 0.98 x is stable, while the Courant scale L_min / c_p (stable_time_step, 1.2 x
+    the critical step at nu 0.3, 1.4 x at 0.49 on squares) is unstable, so check_dt refuses
+    it."""
+    mat = Material(name="m", E=1e4, nu=nu, density=2.0)
+    one = rectangle(1.0, 1.0, 1, 1, material=mat)
+    crit = integrate.critical_time_step(one, contact=False)
+    assert integrate.stable_time_step(one, contact=False) / crit == pytest.approx(
+        {0.3: 1.195, 0.49: 1.400}[nu], abs=1e-3)
+    assert _free_run(rectangle(1.0, 1.0, 1, 1, material=mat), 0.98 * crit) < 1e-5
+    assert _free_run(rectangle(1.0, 1.0, 1, 1, material=mat), 1.02 * crit) is None
+    for element in ("Q4", "T3"):
+        mesh = rectangle(1.0, 1.0, 6, 6, element, material=mat)
+        crit = integrate.critical_time_step(mesh, contact=False)
+        scale = integrate.stable_time_step(mesh, contact=False)
+        assert _free_run(rectangle(1.0, 1.0, 6, 6, element, material=mat), 0.98 * crit) < 1e-5
+        assert _free_run(rectangle(1.0, 1.0, 6, 6, element, material=mat), scale) is None
+        with pytest.raises(ValueError, match="above the critical time step"):
+            integrate.check_dt(mesh, scale, contact=False)
+        # the solvers' default (half the scale) stays within 0.75 of the critical step
+        assert integrate.default_dt(mesh, contact=False) <= 0.75 * crit
 
 
 def _loaded_block(element="Q4"):

@@ -1,7 +1,9 @@
 """Figures of merit of a run's energy ledger (``RunResult.history``), in kJ/m.
 
-supply(t) = E(0) + work of gravity and loads + work of the supports, with
-E = kinetic + strain + contact elastic energy. A run whose mechanical energy never exceeds its
+supply(t) = E(start) + the work of gravity and loads and of the supports since the start,
+with E = kinetic + strain + contact elastic energy and ``start`` the ledger when the run
+began (``RunResult.start``; the ledger's works are totals since the state was made, so a
+continued run's count from its own start). A run whose mechanical energy never exceeds its
 supply has bounded energy (dissipation takes the difference).
 """
 
@@ -25,35 +27,39 @@ LABELS = {"kinetic": "kinetic", "strain": "strain", "contact_elastic": "contact 
 DISSIPATION = ("damping", "friction", "contact_damping", "residual")
 
 
-def mechanical_energy(h: dict) -> tuple[np.ndarray, np.ndarray]:
-    """(E, supply) over the run's records."""
+def mechanical_energy(h: Mapping[str, Any], start: Mapping[str, float]
+                      ) -> tuple[np.ndarray, np.ndarray]:
+    """(E, supply) over the run's records; ``start``: the ledger at the run's start."""
     e = h["kinetic"] + h["strain"] + h.get("contact_elastic", 0.0)
-    return e, e[0] + h["work_loads"] + h["work_supports"]
+    e0 = start["kinetic"] + start["strain"] + start.get("contact_elastic", 0.0)
+    w0 = start["work_loads"] + start["work_supports"]
+    return e, e0 + (h["work_loads"] + h["work_supports"] - w0)
 
 
-def energy_excess(h: dict) -> float:
+def energy_excess(h: Mapping[str, Any], start: Mapping[str, float]) -> float:
     """Maximum over the run of (E - supply) / max |supply| (0 when the energy stays bounded)."""
-    e, supply = mechanical_energy(h)
+    e, supply = mechanical_energy(h, start)
     return max(float(np.max(e - supply)) / float(np.max(np.abs(supply))), 0.0)
 
 
-def energy_peak_ratio(h: dict) -> float:
-    """Maximum over the run of E / supply: how close the energy came to its sources (< 1)."""
-    e, supply = mechanical_energy(h)
+def energy_peak_ratio(h: Mapping[str, Any], start: Mapping[str, float]) -> float:
+    """Maximum over the run of E / supply: how close the energy came to its sources (<= 1)."""
+    e, supply = mechanical_energy(h, start)
     ok = np.abs(supply) > 1e-12 * float(np.max(np.abs(supply)))
     return float(np.max(e[ok] / supply[ok])) if ok.any() else 0.0
 
 
-def conservation_checks(h: dict, state: Any, n_elements: int, mass: float) -> dict[str, Any]:
+def conservation_checks(h: Mapping[str, Any], start: Mapping[str, float], state: Any,
+                        n_elements: int, mass: float) -> dict[str, Any]:
     """The standard checks of a discrete run (:class:`~hybrid.io.Check`).
 
-    Energy never above its sources (1 %), the ``n_elements`` elements and the ``mass`` [t/m]
-    of the start kept.
+    Energy never above its sources since ``start`` (1 %), the ``n_elements`` elements and the
+    ``mass`` [t/m] of the start kept.
     """
     from hybrid.io import Check
 
     return {
-        "energy_excess_over_sources": Check(energy_excess(h), 0.0, 0.01, "-",
+        "energy_excess_over_sources": Check(energy_excess(h, start), 0.0, 0.01, "-",
                                             "E_kin + E_strain + E_contact <= E(0) + work"),
         "elements_conserved": Check(float(state.n_elements), float(n_elements), 0.0),
         "mass_conserved": Check(float(state.mass.sum()), mass, 1e-12, "t/m")}

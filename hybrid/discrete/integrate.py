@@ -25,7 +25,8 @@ from hybrid.discrete.state import DiscreteState
 
 import numba  # isort: skip
 
-__all__ = ["stable_time_step", "damped_contact_step", "damped_contact_fault", "default_dt",
+__all__ = ["stable_time_step", "critical_time_step", "element_frequencies", "CRITICAL_MARGIN",
+           "damped_contact_step", "damped_contact_fault", "default_dt",
            "DAMPED_CONTACT_MARGIN", "step", "prime", "kinetic_energy", "check_dt"]
 
 
@@ -215,19 +216,19 @@ def damped_contact_step(state: DiscreteState) -> float:
 
 
 def stable_time_step(state: DiscreteState, *, contact: bool | None = None) -> float:
-    """Critical time step [s] of the central-difference scheme for this state.
+    """The time-step scale [s] of the central-difference scheme for this state (Courant).
 
     Mesh: min over elements of L_min / c_p (L_min = A / longest edge for Q4, the smallest
-    altitude 2A / longest edge for T3; c_p = sqrt((K + 4G/3) / rho)), a lower bound of the
-    Flanagan-Belytschko estimate 2 / omega_max. Contact (when ``contact`` is True, or None and
-    the state has rigid bodies or several bodies): sqrt(m_e / (k_n L_e)), i.e. 2 sqrt(m/k)
-    with a quarter of the element mass on a node and the normal stiffness k_n L_e of an
-    overlap along one edge. Frozen elements (every node held) are left out. No safety factor
-    is applied here.
+    altitude 2A / longest edge for T3; c_p = sqrt((K + 4G/3) / rho)). Not a bound: it exceeds
+    the critical step 2 / omega_max of a single element by about 1.2 at nu = 0.3 and 1.5 at
+    nu = 0.49 (:func:`critical_time_step` is the bound; a step above it is refused), so the
+    solvers take half of it (:func:`default_dt`), which stays below 0.75 of the critical
+    step. Contact (when ``contact`` is True, or None and the state has rigid bodies or
+    several bodies): sqrt(m_e / (k_n L_e)), i.e. 2 sqrt(m/k) with a quarter of the element
+    mass on a node and the normal stiffness k_n L_e of an overlap along one edge. Frozen
+    elements (every node held) are left out. No safety factor is applied here.
     """
-    if contact is None:
-        assert state.contact_pairs is not None  # set in DiscreteState.__post_init__
-        contact = state.contact_pairs.shape[0] > 0
+    contact = _with_contact(state, contact)
     args = (state.x, state.element_nodes, state.element_material, state.material_table,
             state.density, state.contact_table, state.mass, bool(contact))
     dt = float(_critical_dt(*args, state.fixed))
@@ -244,24 +245,125 @@ def stable_time_step(state: DiscreteState, *, contact: bool | None = None) -> fl
 DAMPED_CONTACT_MARGIN = 0.95
 
 
-def default_dt(state: DiscreteState, safety: float = 0.5, *, contact: bool = True) -> float:
+#: a step chosen by :func:`default_dt` stays within this fraction of :func:`critical_time_step`
+#: (binds only for a safety above about 0.6: the scale exceeds the critical step by at most
+#: about 1.5 on undistorted elements)
+CRITICAL_MARGIN = 0.9
+
+
+def default_dt(state: DiscreteState, safety: float = 0.5, *, contact: bool = True,
+               bbar: bool = True) -> float:
     """The step [s] a solver takes when given none.
 
-    ``safety`` x the stable step, and with contact at most ``DAMPED_CONTACT_MARGIN`` x the
-    damped contacts' limit.
+    ``safety`` x the time-step scale (:func:`stable_time_step`), at most ``CRITICAL_MARGIN``
+    x the critical step (:func:`critical_time_step`), and with contact at most
+    ``DAMPED_CONTACT_MARGIN`` x the damped contacts' limit.
     """
-    dt = safety * stable_time_step(state, contact=contact)
+    dt = min(safety * stable_time_step(state, contact=contact),
+             CRITICAL_MARGIN * critical_time_step(state, contact=contact, bbar=bbar))
     return min(dt, DAMPED_CONTACT_MARGIN * damped_contact_step(state)) if contact else dt
 
 
-def check_dt(state: DiscreteState, dt: float, *, contact: bool | None = None) -> float:
-    """Validate a time step: refuse dt above the (undamped) stable limit, naming the limit."""
-    crit = stable_time_step(state, contact=contact)
+def _with_contact(state: DiscreteState, contact: bool | None) -> bool:
+    """``contact``, or when None whether the state has contact pairs (rigid bodies, bodies)."""
+    if contact is None:
+        assert state.contact_pairs is not None  # set in DiscreteState.__post_init__
+        return bool(state.contact_pairs.shape[0] > 0)
+    return bool(contact)
+
+
+def element_frequencies(state: DiscreteState, *, bbar: bool = True) -> np.ndarray:
+    """Highest natural frequency omega_e [rad/s] of every element alone (n_elements,).
+
+    The largest eigenvalue of M_e^-1 K_e, with K_e the elastic tangent of the element kernel
+    itself on the current configuration (B-bar Q4 or T3; columns by central differences of
+    its internal force, each node moved by 1e-7 of the element's longest edge: exact to
+    O(1e-7) for a linear element) and M_e the element's lumped nodal masses. Elements with a
+    massless node get 0 (they do not move by themselves).
+    """
+    x, nodes = state.x, state.element_nodes
+    ne, nen = nodes.shape
+    if ne == 0:
+        return np.zeros(0)
+    corners = x[nodes]  # (ne, nen, 2)
+    lmax = np.linalg.norm(np.roll(corners, -1, axis=1) - corners, axis=2).max(axis=1)
+    h = 1e-7 * lmax  # (ne,)
+    elastic = np.ones_like(state.elastic_only)
+    cols = np.empty((ne, 2 * nen, 2 * nen))
+    for a in range(nen):
+        for c in range(2):
+            forces = []
+            for sign in (1.0, -1.0):
+                v = np.zeros_like(x)
+                v[nodes[:, a], c] = sign * h
+                xs = x + v  # the end of the increment du = v (dt = 1)
+                force = np.zeros_like(x)
+                element_forces(xs, v, 1.0, nodes, state.element_material, state.material_table,
+                               elastic, state.element_length, np.zeros_like(state.stress),
+                               np.zeros_like(state.plastic_strain),
+                               np.zeros_like(state.yielded), force, bbar)
+                forces.append(force[nodes].reshape(ne, 2 * nen))
+            cols[:, :, 2 * a + c] = (forces[0] - forces[1]) / (2.0 * h[:, None])
+    k = 0.5 * (cols + cols.transpose(0, 2, 1))
+    m = np.repeat(state.mass[nodes], 2, axis=1)  # (ne, 2 nen): x and y of each node
+    moving = (m > 0.0).all(axis=1)
+    w = np.zeros(ne)
+    if moving.any():
+        s = 1.0 / np.sqrt(m[moving])
+        a = k[moving] * s[:, :, None] * s[:, None, :]
+        w[moving] = np.sqrt(np.maximum(np.linalg.eigvalsh(a)[:, -1], 0.0))
+    return w
+
+
+def critical_time_step(state: DiscreteState, *, contact: bool | None = None,
+                       bbar: bool = True) -> float:
+    """Critical time step [s] of the central-difference scheme: a step above it is unstable.
+
+    Mesh: 2 / max_e omega_e over the elements that move (:func:`element_frequencies`). The
+    highest frequency of the assembled, tied mesh is at most the highest of its elements
+    alone (the element eigenvalue theorem: Irons 1970; Hughes 1987, sec. 9.3), so this is a
+    lower bound of the mesh's critical step, exact for a free element; plastic flow only
+    softens the tangent. Contact as :func:`stable_time_step`. ``bbar``: the element kernel's
+    (``RunOptions.bbar``; full integration is stiffer).
+    """
+    contact = _with_contact(state, contact)
+    held = state.fixed[state.element_nodes].all(axis=(1, 2))  # frozen: every node held
+    w = element_frequencies(state, bbar=bbar)
+    w_max = float(w[~held].max(initial=0.0)) if (~held).any() else float(w.max(initial=0.0))
+    dt = 2.0 / w_max if w_max > 0.0 else math.inf
+    if contact:
+        args = (state.x, state.element_nodes, state.element_material, state.material_table,
+                state.density, state.contact_table, state.mass)
+        dt = min(dt, float(_contact_dt(*args, state.fixed)))
+    return dt
+
+
+@numba.njit(cache=True)
+def _contact_dt(x, element_nodes, element_material, material_table, density, contact_table,
+                mass, fixed):
+    """The contact bound of :func:`stable_time_step` alone (min over moving elements)."""
+    best = np.inf
+    for e in range(element_nodes.shape[0]):
+        if not element_held(element_nodes, fixed, e):
+            best = min(best, contact_bound(x, element_nodes, element_material, contact_table,
+                                           mass, e))
+    return best
+
+
+def check_dt(state: DiscreteState, dt: float, *, contact: bool | None = None,
+             bbar: bool = True) -> float:
+    """Validate a time step: refuse dt above the (undamped) critical step, naming it.
+
+    Returns :func:`critical_time_step`.
+    """
     if not (math.isfinite(dt) and dt > 0.0):
         raise ValueError(f"dt = {dt!r}: must be a finite positive number [s]")
+    crit = critical_time_step(state, contact=contact, bbar=bbar)
     if dt > crit:
-        raise ValueError(f"dt = {dt:.4g} s is above the stable time step {crit:.4g} s of this "
-                         f"mesh/contact stiffness: use dt <= {crit:.4g} s (e.g. 0.5 x that)")
+        raise ValueError(f"dt = {dt:.4g} s is above the critical time step {crit:.4g} s of "
+                         f"this mesh/contact stiffness (integrate.critical_time_step): use "
+                         f"dt <= {crit:.4g} s (e.g. 0.5 x integrate.stable_time_step, the "
+                         "solvers' default)")
     return crit
 
 

@@ -4,8 +4,8 @@
 contact damping ratio outside [0, 1], free tie groups without mass). :class:`Monitor` stops a
 run whose mechanical energy exceeds ``RUNAWAY_MARGIN`` times its sources or turns non-finite
 (:func:`raise_non_finite`), :func:`check_distortion` one whose elements have distorted below
-its stable time step; each message names the likeliest cause. :func:`record_check` appends a
-check's energy ledger to a run's history.
+its time step (their Courant scale); each message names the likeliest cause.
+:func:`record_check` appends a check's energy ledger to a run's history.
 """
 
 from __future__ import annotations
@@ -116,8 +116,9 @@ def _cause(state: DiscreteState, dt: float, contact: bool | None) -> str:
     if np.isfinite(state.x).all():
         crit = integrate.stable_time_step(state, contact=contact)
         if dt > crit:
-            return (f"Cause: the elements have distorted so much that the stable time step fell "
-                    f"to {crit:.4g} s, below dt = {dt:.4g} s (an element that cannot part "
+            return (f"Cause: the elements have distorted so much that the time-step scale "
+                    f"L_min / c_p fell to {crit:.4g} s, below dt = {dt:.4g} s (an element "
+                    "that cannot part "
                     "from its neighbours: let the flowing region split, RunOptions(split_every"
                     "=10) and its interfaces splittable; or reduce dt).")
     return (f"Likely cause: dt = {dt:.4g} s too large for the current mesh or contact "
@@ -185,19 +186,22 @@ class Monitor:
 
 
 def check_distortion(state: DiscreteState, dt: float, contact: bool) -> None:
-    """Stop when the elements have distorted below the run's stable time step.
+    """Stop when the elements have distorted so far that their time-step scale fell below dt.
 
-    The run would otherwise end in NaN a few steps later; the message names the remedies.
+    The scale (``integrate.stable_time_step``, L_min / c_p) lies above the critical step
+    (``integrate.critical_time_step``), so this catches gross distortion only; the run would
+    otherwise end in NaN a few steps later. The message names the remedies.
     """
     crit = integrate.stable_time_step(state, contact=contact)
     if dt > crit:
         raise RunUnstable(
             f"discrete run stopped at step {state.step} (t = {state.time:.6g} s): the elements "
-            f"have distorted so much that the stable time step fell to {crit:.4g} s, below the "
-            f"run's dt = {dt:.4g} s (large plastic flow pancakes an element). A distorted "
-            "element parts from its neighbours at a splitting check (hybrid.discrete.ties."
-            "DISTORTION_LIMIT) only where splitting is on and its interfaces are splittable: "
+            f"have distorted so much that the time-step scale L_min / c_p fell to {crit:.4g} s, "
+            f"below the run's dt = {dt:.4g} s (large plastic flow pancakes an element). A "
+            "distorted element parts from its neighbours at a splitting check "
+            "(hybrid.discrete.ties.DISTORTION_LIMIT) only where splitting is on and its "
+            "interfaces are splittable: "
             "check RunOptions(split_every=...) (10 is typical; 0 turns splitting off) and the "
             "region allowed to split (ties.limit_splitting), keep the time step at most half "
-            "the stable one (RunOptions(safety=0.5) or a dt that small), or continue with a "
+            "the scale (RunOptions(safety=0.5) or a dt that small), or continue with a "
             "smaller dt.")

@@ -79,12 +79,14 @@ class RunOptions:
 
     Attributes:
         dt: time step [s]; None reuses ``state.dt`` (a continued state) or takes
-            ``integrate.default_dt``: ``safety`` times the stable step, and with contact at
-            most 0.95 times the damped contacts' limit (``integrate.damped_contact_step``). A
-            dt above the stable step, or one given here or continued above the damped
-            contacts' limit, is refused.
-        safety: fraction of the stable time step when dt is None, in (0, 1] [-] (the damped
-            contacts' limit may take the step lower).
+            ``integrate.default_dt``: ``safety`` times the time-step scale
+            (``integrate.stable_time_step``), at most 0.9 times the critical step
+            (``integrate.critical_time_step``), and with contact at most 0.95 times the
+            damped contacts' limit (``integrate.damped_contact_step``). A dt above the
+            critical step, or one given here or continued above the damped contacts' limit,
+            is refused.
+        safety: fraction of the time-step scale when dt is None, in (0, 1] [-] (the critical
+            step and the damped contacts' limit may take the step lower).
         mass_damping: alpha of the mass-proportional damping C = alpha M [1/s] (thesis eq
             3.12), >= 0.
         local_damping: Cundall's local non-viscous damping d in [0, 1) [-] (quasi-static
@@ -134,10 +136,10 @@ class RunOptions:
         """Refuse bad values with the option's name and the fix."""
         if self.dt is not None and not (math.isfinite(self.dt) and self.dt > 0.0):
             raise ValueError(f"dt = {self.dt!r}: must be a finite positive number [s] (None: "
-                             "safety x the stable time step)")
+                             "safety x the time-step scale)")
         if not 0.0 < self.safety <= 1.0:
             raise ValueError(f"safety = {self.safety!r}: must be in (0, 1] (a fraction of the "
-                             "stable time step)")
+                             "time-step scale)")
         if not (math.isfinite(self.mass_damping) and self.mass_damping >= 0.0):
             raise ValueError(f"mass_damping = {self.mass_damping!r}: alpha must be >= 0 [1/s]")
         if not 0.0 <= self.local_damping < 1.0:
@@ -166,7 +168,9 @@ class RunResult:
 
     ``history`` holds one entry per check (and one at the end) under the keys
     ``HISTORY_KEYS``: time [s], step, the :class:`EnergyLedger` terms [kJ/m] and the residual
-    since the start of this run [kJ/m].
+    since the start of this run [kJ/m]; ``start`` is the ledger when the run began (its works
+    are totals since the state was made: a continued run's supply counts from it,
+    :mod:`hybrid.discrete.energy`).
     """
 
     stop_reason: str  # "time", "steps", "rest" or "callback"
@@ -179,6 +183,7 @@ class RunResult:
     history: dict[str, np.ndarray] = field(default_factory=dict)  # energy ledger per check
     phase: str = ""  # the run's name in the outputs
     peak_kinetic: float = 0.0  # largest kinetic energy at the start and the checks [kJ/m]
+    start: dict[str, float] = field(default_factory=dict)  # EnergyLedger at the start [kJ/m]
 
     @property
     def rest_ratio(self) -> float:

@@ -303,8 +303,8 @@ class RestRun:
         working (:func:`~hybrid.discrete.options.drift_ratio` at most ``REST_DRIFT``); the
         others are :func:`~hybrid.discrete.energy.conservation_checks`.
         """
-        return {**conservation_checks(self.result.history, self.state, self.n_elements,
-                                      self.mass),
+        return {**conservation_checks(self.result.history, self.result.start, self.state,
+                                      self.n_elements, self.mass),
                 **self.result.rest_checks(self.rest)}
 
     def final_figure(self, path: str | Path,
@@ -329,7 +329,7 @@ class RestRun:
         return {"elements": state.n_elements, "dt_s": res.dt, "steps": res.steps,
                 "time_s": res.time, "stop": res.stop_reason, "wall_time_s": res.wall_time,
                 "interfaces_failed": int((~state.interface_intact).sum()),
-                "energy_peak_over_supply": energy_peak_ratio(res.history),
+                "energy_peak_over_supply": energy_peak_ratio(res.history, res.start),
                 "outputs": [str(f) for f in self.outputs]}
 
 

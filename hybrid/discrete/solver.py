@@ -30,7 +30,7 @@ import math
 import time as _time
 import warnings
 from collections.abc import Callable, Iterable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
@@ -134,6 +134,10 @@ class _Progress:
                          for key in HISTORY_KEYS},
                    callback=_prefixed(a, f"{prefix}on_check."))
 
+
+
+#: the :class:`EnergyLedger` terms in field order (a run's ``start`` in checkpoints)
+_LEDGER_KEYS = tuple(f.name for f in fields(EnergyLedger))
 
 
 def _prefixed(arrays: dict[str, np.ndarray], prefix: str) -> dict[str, np.ndarray]:
@@ -251,10 +255,10 @@ class ExplicitSolver:
         dt = o.dt
         chosen = dt is None and not state.dt > 0.0  # else given, or a continued state's
         if chosen:  # within the damped contacts' limit
-            dt = integrate.default_dt(state, o.safety, contact=self.contact)
+            dt = integrate.default_dt(state, o.safety, contact=self.contact, bbar=o.bbar)
         elif dt is None:
             dt = state.dt
-        integrate.check_dt(state, float(dt), contact=self.contact)
+        integrate.check_dt(state, float(dt), contact=self.contact, bbar=o.bbar)
         if self.contact and not chosen:  # the damped contacts stable at a step not chosen here?
             fault = integrate.damped_contact_fault(state, float(dt))
             if fault is not None:
@@ -453,7 +457,7 @@ class ExplicitSolver:
         fault = input_fault(st)
         if fault is not None:
             raise ValueError(f"discrete run refused: {fault}")
-        integrate.check_dt(st, dt, contact=self.contact)
+        integrate.check_dt(st, dt, contact=self.contact, bbar=self.options.bbar)
         if not st.primed:
             integrate.prime(st)
         self._begin()
@@ -541,7 +545,7 @@ class ExplicitSolver:
                            else 0.0,
                            n_split=self.n_split - r.split0,
                            history={kk: np.asarray(v) for kk, v in hist.items()}, phase=r.phase,
-                           peak_kinetic=r.peak_ke)
+                           peak_kinetic=r.peak_ke, start=r.led0.as_dict())
         self._run = None
         self._done.append((call, result))
         self._done_callbacks.append(_callback_state(on_check))
@@ -581,6 +585,7 @@ class ExplicitSolver:
             out[p + "stop_reason"] = np.array(res.stop_reason)
             out[p + "phase"] = np.array(res.phase)
             out[p + "numbers"] = np.array([float(getattr(res, n)) for n in RESULT_NUMBERS])
+            out[p + "start"] = np.array([res.start[k] for k in _LEDGER_KEYS])
             out.update({f"{p}hist.{k}": np.asarray(v, dtype=float)
                         for k, v in res.history.items()})
             out.update({f"{p}on_check.{k}": v for k, v in self._done_callbacks[i].items()})
@@ -622,7 +627,7 @@ class ExplicitSolver:
         for name, value in fields_.items():
             setattr(st, name, value)
         self.dt = st.dt
-        integrate.check_dt(st, self.dt, contact=self.contact)
+        integrate.check_dt(st, self.dt, contact=self.contact, bbar=self.options.bbar)
         self.steps, self.n_split, self.active_contacts, n_done = (
             int(v) for v in extra["solver.numbers"])
         done = []
@@ -633,6 +638,10 @@ class ExplicitSolver:
                                  f"{len(extra[p + 'numbers'])} numbers, this version "
                                  f"{len(RESULT_NUMBERS)}: written by another version of "
                                  "hybrid; rerun without --resume")
+            if p + "start" not in extra:
+                raise ValueError(f"checkpoint {path}: its run results lack the energy ledger "
+                                 "at their start: written by another version of hybrid; "
+                                 "rerun without --resume")
             nums = dict(zip(RESULT_NUMBERS, extra[p + "numbers"], strict=True))
             res = RunResult(stop_reason=str(extra[p + "stop_reason"]),
                             steps=int(nums["steps"]), time=float(nums["time"]),
@@ -641,7 +650,9 @@ class ExplicitSolver:
                             n_split=int(nums["n_split"]),
                             history={k: extra[f"{p}hist.{k}"] for k in HISTORY_KEYS},
                             phase=str(extra[p + "phase"]),
-                            peak_kinetic=float(nums["peak_kinetic"]))
+                            peak_kinetic=float(nums["peak_kinetic"]),
+                            start={k: float(v) for k, v in zip(_LEDGER_KEYS, extra[p + "start"],
+                                                               strict=True)})
             done.append((str(extra[p + "call"]), res))
         self._replay = done
         self._replay_callbacks = [_prefixed(extra, f"solver.done{i}.on_check.")

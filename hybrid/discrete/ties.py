@@ -214,7 +214,7 @@ def _failure_kernel(x, element_nodes, element_material, stress, interface_elemen
 
 
 def stable_step_ratio(state: DiscreteState) -> np.ndarray:
-    """Each element's stable time step now over its value at creation (n_elements,) [-].
+    """Each element's time-step scale now over its value at creation (n_elements,) [-].
 
     The smaller of h / h_ref and sqrt(L_ref / L) (h the least altitude, L the longest edge:
     the mesh and the contact bounds of ``integrate.stable_time_step``); 1 for an undeformed
