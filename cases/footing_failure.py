@@ -135,7 +135,7 @@ class Parameters(CaseParameters):
     output_every: int = param(800, ge=0)  # discrete steps between outputs (0: none)
     checkpoint_every: int = param(0, ge=0)  # discrete steps between checkpoints (0: none;
     #                                         hybrid run --resume continues from the last)
-    safety: float = param(0.5, gt=0, le=1)  # time step as a fraction of the stable one
+    safety: float = param(0.5, gt=0, le=1)  # time step as a fraction of the time-step scale
     progress: bool = True  # progress bar of the discrete runs
     discrete: bool = True  # run the discrete phase (False: stop after the handover, as the
     #                        mesh study of the collapse load does)

@@ -220,7 +220,7 @@ def test_carsington_thesis_mesh(case, tmp_path):
     # bars of the discrete phase (the thesis's description, 6.3.2): at rest, the slip surface
     # (failed interfaces that slipped >= 0.1 m) through the yellow clay, the core's boot and
     # the core above it, the shoulder upstream. The thesis's crack from the crest is not found
-    # open at rest (docs/carsington.md: nor in the softening analysis)
+    # open during the slide (docs/carsington.md: nor in the softening analysis)
     d = summary["discrete"]
     assert d["stop"] == "rest"
     for name in ("slip_surface_through_yellow_clay",
@@ -291,8 +291,8 @@ def test_carsington_softening_coarse(case, tmp_path):
     assert carried <= thesis["construction"]["fill_level_m_od"]
     assert soft["discrete"]["stop"] == "rest"
     # the observed movements' bar is asserted on the shipped meshes (slow tests), not on this
-    # coarse one; a crack from the crest open at rest is a result the docs report per mesh
-    # (found on none), not a bar
+    # coarse one; a crack from the crest open during the slide is a result the docs report per
+    # mesh (found on none), not a bar
     assert_bars(soft, except_=("upstream_toe_movement", "crest_drop", "crack_at_crest"))
     for name in ("slip_surface_through_yellow_clay", "slip_surface_through_boot",
                  "shoulder_moves_upstream", "energy_excess_over_sources"):
@@ -305,7 +305,7 @@ def softening_meshes(tmp_path_factory):
     docs/carsington.md (its finer ones take minutes each), run once for the tests below;
     on both it collapses in the same lift, comes to rest with the slip surface through the
     yellow clay, the boot and the core, the upstream shoulder moving upstream, energy
-    bounded, elements and mass kept (no crack from the crest stands open at rest, on any of
+    bounded, elements and mass kept (no crack from the crest opens during the slide, on any of
     the docs' meshes: a result docs/carsington.md reports, not a bar here)."""
     from hybrid.case import load_case
 

@@ -301,3 +301,40 @@ def test_small_runs_step_on_one_thread():
         assert seen == [1, 1] and numba.get_num_threads() == 2
     finally:
         numba.set_num_threads(old)
+
+
+def test_critical_time_step_edge_cases():
+    """Far from the origin (coordinates of 1e7 m) the same bound as at it; a massless node
+    tied to one with mass shares the group's mass (the bound stays below the tied pair's true
+    limit); held components are left out; bad geometry is refused with the element named."""
+    mat = Material(name="m", E=1e4, nu=0.3, density=2.0)
+    here = rectangle(1.0, 1.0, 1, 1, material=mat)
+    far = rectangle(1.0, 1.0, 1, 1, material=mat, origin=(1e7, 1e7))
+    assert integrate.critical_time_step(far, contact=False) == pytest.approx(
+        integrate.critical_time_step(here, contact=False), rel=1e-6)
+    # two Q4 side by side, tied; the left element's nodes massless (its mass on the right's)
+    pair = rectangle(2.0, 1.0, 2, 1, material=mat)
+    left = np.unique(pair.element_nodes[0])
+    pair.mass[np.unique(pair.element_nodes[1])] += pair.mass[left].sum() / 4.0
+    pair.mass[left] = 0.0
+    shared = [n for n in left if (pair.node_group == pair.node_group[n]).sum() > 1]
+    assert len(shared) == 2  # the left element's right edge is tied to the right element
+    pair.fix(np.isclose(pair.x_ref[:, 0], 0.0))  # its massless left edge held
+    bound = integrate.critical_time_step(pair, contact=False)
+    assert math.isfinite(bound) and _free_run(pair, 0.98 * bound, steps=2000) < 1e-5
+    # a held element does not move: no bound from it; a half-held one still has one
+    held = rectangle(1.0, 1.0, 1, 1, material=mat)
+    held.fix(np.ones(held.x.shape[0], dtype=bool))
+    assert integrate.critical_time_step(held, contact=False) == math.inf
+    half = rectangle(1.0, 1.0, 1, 1, material=mat)
+    half.fix(np.isclose(half.x_ref[:, 1], 0.0))
+    assert integrate.critical_time_step(here, contact=False) <= integrate.critical_time_step(
+        half, contact=False) < math.inf
+    bad = rectangle(1.0, 1.0, 1, 1, material=mat)
+    bad.x[0] = np.nan
+    with pytest.raises(ValueError, match="element 0 has non-finite coordinates"):
+        integrate.critical_time_step(bad, contact=False)
+    flipped = rectangle(1.0, 1.0, 1, 1, material=mat)
+    flipped.x[:, 0] *= -1.0  # mirrored: clockwise, negative area
+    with pytest.raises(ValueError, match="element 0 is inverted or degenerate"):
+        integrate.critical_time_step(flipped, contact=False)

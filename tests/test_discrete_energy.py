@@ -136,3 +136,31 @@ def test_supply_of_a_continued_run_counts_from_its_own_start():
     for res in (first, second):
         assert energy_excess(res.history, res.start) < 1e-3
         assert energy_peak_ratio(res.history, res.start) == pytest.approx(1.0, abs=1e-2)
+
+
+def test_runaway_monitor_counts_the_works_from_the_run_start():
+    """The monitor's sources of a continued run: its energy at the start plus the work of the
+    loads and of the supports since then, each counted from the start (the works before the
+    run, and the loads' and supports' works against each other, no longer hide a runaway)."""
+    from hybrid.discrete import rectangle
+    from hybrid.discrete.monitor import Monitor
+    from hybrid.errors import RunUnstable
+
+    st = rectangle(1.0, 1.0, 1, 1, material=Material(name="m", E=1e4, nu=0.3, density=2.0))
+    zero = dict.fromkeys(EnergyLedger.__dataclass_fields__, 0.0)
+    start = EnergyLedger(**{**zero, "kinetic": 1.0, "work_loads": 100.0,
+                            "work_supports": -100.0})
+    monitor = Monitor(st, start, dt=1e-3)
+    monitor.check(st, EnergyLedger(**{**zero, "kinetic": 1.5, "work_loads": 100.0,
+                                      "work_supports": -100.0}))  # within 2 x its sources
+    created = EnergyLedger(**{**zero, "kinetic": 151.0, "work_loads": 100.0,
+                              "work_supports": -100.0})
+    with pytest.raises(RunUnstable, match="above the margin"):
+        monitor.check(st, created)
+    # checkpointed and restored, the same verdict
+    again = Monitor(st, start, dt=1e-3)
+    again.restore(monitor.state())
+    with pytest.raises(RunUnstable, match="above the margin"):
+        again.check(st, created)
+    with pytest.raises(ValueError, match="another version"):
+        again.restore(monitor.state()[:4])

@@ -225,6 +225,8 @@ def test_crack_watch_keeps_a_crack_that_closed_before_rest():
     again = CrackWatch((0.5, 1.5), min_opening=0.1, top_depth=0.01)
     again.restore(watch.state())
     assert again.summary("crack") == summary
+    with pytest.raises(ValueError, match="no crack watch's state"):
+        again.restore({})  # a checkpoint without it: refused, not resumed empty
     # never open: none seen, times None; a crack narrower than min_opening is still a width
     # at the surface
     narrow = CrackWatch((0.5, 1.5), min_opening=0.5, top_depth=0.01)

@@ -212,16 +212,22 @@ def test_unstable_run_stopped_with_clear_message():
     crit = integrate.critical_time_step(st)
     with pytest.raises(ValueError, match="critical time step"):
         run(st, max_steps=10, dt=2.0 * crit)
-    st.dt = 3.0 * crit  # a corrupted restart: bypass the check, the monitor must catch it
+    st.dt = 3.0 * crit  # a corrupted restart: bypass the checks, the monitor must catch it
     from hybrid.discrete import solver as run_mod
 
-    orig = integrate.check_dt
+    orig, orig_distortion = integrate.check_dt, run_mod.check_distortion
     try:
         run_mod.integrate.check_dt = lambda *a, **k: crit
+        # the run's start checks the step against the elements' time-step scale (the in-run
+        # rule): dt = 3 x the critical step is above it
+        with pytest.raises(RuntimeError, match="time-step scale"):
+            run(st, max_steps=5000, check_every=20)
+        run_mod.check_distortion = lambda *a, **k: None
         with pytest.raises(RuntimeError, match="unstable at step .*dt = .* too large"):
             run(st, max_steps=5000, check_every=20)
     finally:
         run_mod.integrate.check_dt = orig
+        run_mod.check_distortion = orig_distortion
 
 
 def test_bad_run_arguments():

@@ -155,7 +155,7 @@ def contact_bound(x, element_nodes, element_material, contact_table, mass, e):
 @numba.njit(cache=True)
 def _critical_dt(x, element_nodes, element_material, material_table, density, contact_table,
                  mass, with_contact, fixed):
-    """Critical time step: the minimum over elements of L_min / c_p.
+    """Time-step scale: the minimum over elements of L_min / c_p (:func:`stable_time_step`).
 
     L_min = A / longest edge (Q4), 2A / longest edge (T3), c_p = sqrt((K + 4G/3) / rho);
     with contact also sqrt(m_e / (k_n L_max)). Elements whose nodes are all held (frozen) do
@@ -220,13 +220,14 @@ def stable_time_step(state: DiscreteState, *, contact: bool | None = None) -> fl
 
     Mesh: min over elements of L_min / c_p (L_min = A / longest edge for Q4, the smallest
     altitude 2A / longest edge for T3; c_p = sqrt((K + 4G/3) / rho)). Not a bound: it exceeds
-    the critical step 2 / omega_max of a single element by about 1.2 at nu = 0.3 and 1.5 at
-    nu = 0.49 (:func:`critical_time_step` is the bound; a step above it is refused), so the
-    solvers take half of it (:func:`default_dt`), which stays below 0.75 of the critical
-    step. Contact (when ``contact`` is True, or None and the state has rigid bodies or
-    several bodies): sqrt(m_e / (k_n L_e)), i.e. 2 sqrt(m/k) with a quarter of the element
-    mass on a node and the normal stiffness k_n L_e of an overlap along one edge. Frozen
-    elements (every node held) are left out. No safety factor is applied here.
+    the critical step 2 / omega_max of an undistorted element by up to 1.2 at nu = 0.3 and
+    1.4 at nu = 0.49 (:func:`critical_time_step` is the bound; a step above it is refused), so
+    the solvers take half of it (:func:`default_dt`), which stays within 0.7 of the critical
+    step; on distorted elements it can fall below the critical step. Contact (when
+    ``contact`` is True, or None and the state has rigid bodies or several bodies):
+    sqrt(m_e / (k_n L_e)), i.e. 2 sqrt(m/k) with a quarter of the element mass on a node and
+    the normal stiffness k_n L_e of an overlap along one edge. Frozen elements (every node
+    held) are left out. No safety factor is applied here.
     """
     contact = _with_contact(state, contact)
     args = (state.x, state.element_nodes, state.element_material, state.material_table,
@@ -246,21 +247,22 @@ DAMPED_CONTACT_MARGIN = 0.95
 
 
 #: a step chosen by :func:`default_dt` stays within this fraction of :func:`critical_time_step`
-#: (binds only for a safety above about 0.6: the scale exceeds the critical step by at most
-#: about 1.5 on undistorted elements)
+#: (binds only for a safety above about 0.64: the scale exceeds the critical step by at most
+#: about 1.4 on undistorted elements)
 CRITICAL_MARGIN = 0.9
 
 
 def default_dt(state: DiscreteState, safety: float = 0.5, *, contact: bool = True,
-               bbar: bool = True) -> float:
+               bbar: bool = True, critical: float | None = None) -> float:
     """The step [s] a solver takes when given none.
 
     ``safety`` x the time-step scale (:func:`stable_time_step`), at most ``CRITICAL_MARGIN``
-    x the critical step (:func:`critical_time_step`), and with contact at most
-    ``DAMPED_CONTACT_MARGIN`` x the damped contacts' limit.
+    x the critical step (:func:`critical_time_step`, or ``critical`` when already known), and
+    with contact at most ``DAMPED_CONTACT_MARGIN`` x the damped contacts' limit.
     """
-    dt = min(safety * stable_time_step(state, contact=contact),
-             CRITICAL_MARGIN * critical_time_step(state, contact=contact, bbar=bbar))
+    crit = critical if critical is not None else critical_time_step(state, contact=contact,
+                                                                     bbar=bbar)
+    dt = min(safety * stable_time_step(state, contact=contact), CRITICAL_MARGIN * crit)
     return min(dt, DAMPED_CONTACT_MARGIN * damped_contact_step(state)) if contact else dt
 
 
@@ -275,19 +277,31 @@ def _with_contact(state: DiscreteState, contact: bool | None) -> bool:
 def element_frequencies(state: DiscreteState, *, bbar: bool = True) -> np.ndarray:
     """Highest natural frequency omega_e [rad/s] of every element alone (n_elements,).
 
-    The largest eigenvalue of M_e^-1 K_e, with K_e the elastic tangent of the element kernel
-    itself on the current configuration (B-bar Q4 or T3; columns by central differences of
-    its internal force, each node moved by 1e-7 of the element's longest edge: exact to
-    O(1e-7) for a linear element) and M_e the element's lumped nodal masses. Elements with a
-    massless node get 0 (they do not move by themselves).
+    The largest eigenvalue of M_e^-1 K_e on the element's free components, with K_e the
+    elastic tangent of the element kernel itself on the current configuration (B-bar Q4 or
+    T3; columns by central differences of its internal force, each node moved by 1e-7 of the
+    element's longest edge, about the element's centroid: exact to O(1e-7) for a linear
+    element; the initial-stress stiffness, O(sigma / E), is left out) and M_e its lumped
+    nodal masses. A tie group with a massless member shares its mass equally among its
+    members (the groups' masses, and so the assembly, unchanged). Held components are left
+    out; an element with nothing free, or no mass on a free component, gets 0.
+
+    Raises:
+        ValueError: non-finite coordinates, or an element inverted or degenerate.
     """
     x, nodes = state.x, state.element_nodes
     ne, nen = nodes.shape
     if ne == 0:
         return np.zeros(0)
     corners = x[nodes]  # (ne, nen, 2)
+    bad = ~np.isfinite(corners).all(axis=(1, 2))
+    if bad.any():
+        raise ValueError(f"element {int(np.flatnonzero(bad)[0])} has non-finite coordinates: "
+                         "no time step can be found for it")
     lmax = np.linalg.norm(np.roll(corners, -1, axis=1) - corners, axis=2).max(axis=1)
     h = 1e-7 * lmax  # (ne,)
+    local = x.copy()  # each element about its own centroid (elements own their nodes)
+    local[nodes] -= corners.mean(axis=1)[:, None, :]
     elastic = np.ones_like(state.elastic_only)
     cols = np.empty((ne, 2 * nen, 2 * nen))
     for a in range(nen):
@@ -296,40 +310,64 @@ def element_frequencies(state: DiscreteState, *, bbar: bool = True) -> np.ndarra
             for sign in (1.0, -1.0):
                 v = np.zeros_like(x)
                 v[nodes[:, a], c] = sign * h
-                xs = x + v  # the end of the increment du = v (dt = 1)
-                force = np.zeros_like(x)
-                element_forces(xs, v, 1.0, nodes, state.element_material, state.material_table,
-                               elastic, state.element_length, np.zeros_like(state.stress),
-                               np.zeros_like(state.plastic_strain),
+                force = np.zeros_like(x)  # at the end of the increment du = v (dt = 1)
+                element_forces(local + v, v, 1.0, nodes, state.element_material,
+                               state.material_table, elastic, state.element_length,
+                               np.zeros_like(state.stress), np.zeros_like(state.plastic_strain),
                                np.zeros_like(state.yielded), force, bbar)
                 forces.append(force[nodes].reshape(ne, 2 * nen))
             cols[:, :, 2 * a + c] = (forces[0] - forces[1]) / (2.0 * h[:, None])
+    bad = ~np.isfinite(cols).all(axis=(1, 2))
+    if bad.any():
+        raise ValueError(f"element {int(np.flatnonzero(bad)[0])} is inverted or degenerate "
+                         "(zero or negative area): no time step can be found for it")
     k = 0.5 * (cols + cols.transpose(0, 2, 1))
-    m = np.repeat(state.mass[nodes], 2, axis=1)  # (ne, 2 nen): x and y of each node
-    moving = (m > 0.0).all(axis=1)
+    m = np.repeat(_member_masses(state)[nodes], 2, axis=1)  # (ne, 2 nen): x, y of each node
+    free = ~state.fixed[nodes].reshape(ne, 2 * nen)
+    k *= free[:, :, None] & free[:, None, :]  # held components stay put: left out
+    movable = free.any(axis=1) & ((m > 0.0) | ~free).all(axis=1)
     w = np.zeros(ne)
-    if moving.any():
-        s = 1.0 / np.sqrt(m[moving])
-        a = k[moving] * s[:, :, None] * s[:, None, :]
-        w[moving] = np.sqrt(np.maximum(np.linalg.eigvalsh(a)[:, -1], 0.0))
+    if movable.any():
+        s = 1.0 / np.sqrt(np.where(free[movable], m[movable], 1.0))
+        a = k[movable] * s[:, :, None] * s[:, None, :]
+        w[movable] = np.sqrt(np.maximum(np.linalg.eigvalsh(a)[:, -1], 0.0))
     return w
+
+
+def _member_masses(state: DiscreteState) -> np.ndarray:
+    """Node masses [t/m] for the element bound.
+
+    A tie group with a massless member shares its mass equally among its members; every
+    other node keeps its own.
+    """
+    g = state.node_group
+    group_mass = np.bincount(g, weights=state.mass, minlength=state.n_groups)
+    size = np.bincount(g, minlength=state.n_groups)
+    massless = np.bincount(g, weights=(state.mass <= 0.0).astype(float),
+                           minlength=state.n_groups) > 0
+    shared = massless[g]
+    out = state.mass.astype(float).copy()
+    out[shared] = group_mass[g[shared]] / size[g[shared]]
+    return out
 
 
 def critical_time_step(state: DiscreteState, *, contact: bool | None = None,
                        bbar: bool = True) -> float:
-    """Critical time step [s] of the central-difference scheme: a step above it is unstable.
+    """Critical time step [s] of the central-difference scheme for the elements.
 
-    Mesh: 2 / max_e omega_e over the elements that move (:func:`element_frequencies`). The
-    highest frequency of the assembled, tied mesh is at most the highest of its elements
-    alone (the element eigenvalue theorem: Irons 1970; Hughes 1987, sec. 9.3), so this is a
-    lower bound of the mesh's critical step, exact for a free element; plastic flow only
-    softens the tangent. Contact as :func:`stable_time_step`. ``bbar``: the element kernel's
-    (``RunOptions.bbar``; full integration is stiffer).
+    Mesh: 2 / max_e omega_e (:func:`element_frequencies`). The highest frequency of the
+    assembled, tied mesh is at most the highest of its elements alone (the element eigenvalue
+    theorem: Irons 1970; Hughes 1987, sec. 9.3), so this is a lower bound of the mesh's
+    critical step, exact for a free element: a step above it is unstable for a free element
+    and refused (:func:`check_dt`); plastic flow only softens the tangent. With contact also
+    the contact bound of :func:`stable_time_step`, an estimate (where a node carries an
+    element's and a contact's stiffness together the limit is lower, by up to 1 / sqrt(2)).
+    ``bbar``: the element kernel's (``RunOptions.bbar``; full integration is stiffer). Costs
+    about 10 microseconds per element (a solver computes it once, when it starts).
     """
     contact = _with_contact(state, contact)
-    held = state.fixed[state.element_nodes].all(axis=(1, 2))  # frozen: every node held
     w = element_frequencies(state, bbar=bbar)
-    w_max = float(w[~held].max(initial=0.0)) if (~held).any() else float(w.max(initial=0.0))
+    w_max = float(w.max(initial=0.0))
     dt = 2.0 / w_max if w_max > 0.0 else math.inf
     if contact:
         args = (state.x, state.element_nodes, state.element_material, state.material_table,
@@ -351,19 +389,26 @@ def _contact_dt(x, element_nodes, element_material, material_table, density, con
 
 
 def check_dt(state: DiscreteState, dt: float, *, contact: bool | None = None,
-             bbar: bool = True) -> float:
-    """Validate a time step: refuse dt above the (undamped) critical step, naming it.
+             bbar: bool = True, critical: float | None = None) -> float:
+    """Validate the time step of a solver that starts: refuse dt above the stable limit.
 
-    Returns :func:`critical_time_step`.
+    The limit is the smaller of the critical step (:func:`critical_time_step`, or
+    ``critical`` when already known) and the time-step scale (:func:`stable_time_step`:
+    during the run the distortion check, ``monitor.check_distortion``, stops a run whose
+    step is above it). Returns the critical step.
     """
     if not (math.isfinite(dt) and dt > 0.0):
         raise ValueError(f"dt = {dt!r}: must be a finite positive number [s]")
-    crit = critical_time_step(state, contact=contact, bbar=bbar)
-    if dt > crit:
-        raise ValueError(f"dt = {dt:.4g} s is above the critical time step {crit:.4g} s of "
-                         f"this mesh/contact stiffness (integrate.critical_time_step): use "
-                         f"dt <= {crit:.4g} s (e.g. 0.5 x integrate.stable_time_step, the "
-                         "solvers' default)")
+    crit = critical if critical is not None else critical_time_step(state, contact=contact,
+                                                                     bbar=bbar)
+    limit = min(crit, stable_time_step(state, contact=contact))
+    if dt > limit:
+        what = ("the critical time step (integrate.critical_time_step)" if limit == crit else
+                "the time-step scale L_min / c_p of its distorted elements "
+                "(integrate.stable_time_step)")
+        raise ValueError(f"dt = {dt:.4g} s is above {what}, {limit:.4g} s, of this "
+                         f"mesh/contact stiffness: use dt <= {limit:.4g} s (the solvers' "
+                         "default, no dt, is 0.5 x the scale within 0.9 x the critical step)")
     return crit
 
 

@@ -211,11 +211,18 @@ def surface_opening(state: DiscreteState, column: tuple[float, float], *,
     """A crack's width at the surface [m]: the largest opening of a failed interface.
 
     Of the failed interfaces in ``column`` with an end within ``top_depth`` [m] of its highest
-    point (:func:`crack_from_top`'s top); 0 when none stands open.
+    point (:func:`crack_from_top`'s top); 0 when none stands open (or none reaches the top).
     """
-    ends, in_column, top = _column_top(state, column)
+    return _surface_opening(state, _column_top(state, column), interface_opening(state),
+                            top_depth)
+
+
+def _surface_opening(state: DiscreteState, where: tuple[np.ndarray, np.ndarray, float],
+                     opening: np.ndarray, top_depth: float) -> float:
+    """:func:`surface_opening` on :func:`_column_top`'s ``where`` and the openings."""
+    ends, in_column, top = where
     at_top = ~state.interface_intact & in_column & (ends[:, :, 1].max(axis=1) >= top - top_depth)
-    return max(float(interface_opening(state)[at_top].max(initial=0.0)), 0.0)
+    return max(float(opening[at_top].max(initial=0.0)), 0.0)
 
 
 def crack_from_top(state: DiscreteState, column: tuple[float, float], *, min_opening: float,
@@ -229,9 +236,15 @@ def crack_from_top(state: DiscreteState, column: tuple[float, float], *, min_ope
     joined to them through shared vertices (reference geometry). Its depth is measured from
     that highest point.
     """
-    ends, in_column, top = _column_top(state, column)
+    return _crack(state, _column_top(state, column), interface_opening(state),
+                  min_opening, top_depth)
+
+
+def _crack(state: DiscreteState, where: tuple[np.ndarray, np.ndarray, float],
+           opening: np.ndarray, min_opening: float, top_depth: float) -> Crack:
+    """:func:`crack_from_top` on :func:`_column_top`'s ``where`` and the openings."""
+    ends, in_column, top = where
     n = state.interface_nodes
-    opening = interface_opening(state)
     candidate = np.flatnonzero(~state.interface_intact & in_column & (opening >= min_opening))
     vertices = {int(i): [tuple(np.round(v, 9)) for v in ends[i]] for i in candidate}
     by_vertex: dict[tuple, list[int]] = {}
@@ -282,15 +295,18 @@ class CrackWatch(Observer):
         self.max_opening = 0.0  # the largest opening of any crack seen [m]
         self.surface_opening = 0.0  # the widest failed interface at the top [m]
         self.checks = 0  # checks watched
+        self._where: tuple[np.ndarray, np.ndarray, float] | None = None  # the column's top
 
     def checked(self, solver: ExplicitSolver, ledger: EnergyLedger) -> None:
         """Measure the crack now; keep it if it is the first or the deepest."""
         state = solver.state
-        crack = crack_from_top(state, self.column, min_opening=self.min_opening,
-                               top_depth=self.top_depth)
+        if self._where is None:  # reference geometry: the same at every check
+            self._where = _column_top(state, self.column)
+        opening = interface_opening(state)
+        crack = _crack(state, self._where, opening, self.min_opening, self.top_depth)
         self.checks += 1
-        self.surface_opening = max(self.surface_opening, surface_opening(
-            state, self.column, top_depth=self.top_depth))
+        self.surface_opening = max(self.surface_opening,
+                                   _surface_opening(state, self._where, opening, self.top_depth))
         if not crack.interfaces.any():
             return
         if math.isnan(self.first_time):
@@ -334,9 +350,12 @@ class CrackWatch(Observer):
 
     def restore(self, saved: dict[str, np.ndarray]) -> None:
         """Continue from :meth:`state`."""
-        if "seen" in saved:
-            for f, v in zip(self._FIELDS, saved["seen"]):
-                setattr(self, f, int(v) if f in ("interfaces", "checks") else float(v))
+        if "seen" not in saved or len(saved["seen"]) != len(self._FIELDS):
+            raise ValueError("the checkpoint has no crack watch's state of this version "
+                             "(written by another version of hybrid, or with other "
+                             "observers): rerun without --resume")
+        for f, v in zip(self._FIELDS, saved["seen"], strict=True):
+            setattr(self, f, int(v) if f in ("interfaces", "checks") else float(v))
 
 
 class SlopeMovement(NamedTuple):

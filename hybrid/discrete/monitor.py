@@ -142,15 +142,18 @@ class Monitor:
     """Stops an unstable run: non-finite numbers, or mechanical energy without a source.
 
     Runaway: the mechanical energy (kinetic + strain + contact) above ``RUNAWAY_MARGIN``
-    times its sources, however fast it grew. A stable run never holds more than its sources
-    plus the small energy the contact forces create (a few % of the work of gravity).
+    times its sources (its energy at the start of the run plus the magnitudes of the work of
+    the loads and of the supports since), however fast it grew. A stable run never holds
+    more than its sources plus the small energy the contact forces create (a few % of the
+    work of gravity).
     """
 
     def __init__(self, state: DiscreteState, led0: EnergyLedger, dt: float,
                  contact: bool | None = None) -> None:
         """Sources and tolerance of the run starting with ``led0``."""
         self.e_start = led0.mechanical
-        self.src0 = led0.work_loads + led0.work_supports
+        # the ledger's works are totals since the state was made: the run's count from these
+        self.loads0, self.supports0 = led0.work_loads, led0.work_supports
         mass_tot = float(np.sum(state.mass))
         cmax = float(np.max(np.sqrt((state.material_table[:, 0]
                                      + 4.0 * state.material_table[:, 1] / 3.0)
@@ -162,11 +165,16 @@ class Monitor:
 
     def state(self) -> np.ndarray:
         """What the monitor's future checks depend on, for checkpoints."""
-        return np.array([self.e_start, self.src0, self.tol_e, self.e_prev])
+        return np.array([self.e_start, self.loads0, self.supports0, self.tol_e, self.e_prev])
 
     def restore(self, saved: np.ndarray) -> None:
         """Continue from :meth:`state`."""
-        self.e_start, self.src0, self.tol_e, self.e_prev = (float(v) for v in saved)
+        if len(saved) != 5:
+            raise ValueError(f"the run monitor's checkpoint has {len(saved)} numbers, this "
+                             "version 5: written by another version of hybrid; rerun without "
+                             "--resume")
+        self.e_start, self.loads0, self.supports0, self.tol_e, self.e_prev = (
+            float(v) for v in saved)
 
     def check(self, state: DiscreteState, led: EnergyLedger) -> None:
         """Raise RuntimeError if the state with ledger ``led`` is unstable."""
@@ -174,8 +182,8 @@ class Monitor:
         if not (np.isfinite(e_now) and np.isfinite(state.x).all()
                 and np.isfinite(state.v).all()):
             raise_non_finite(state, self.dt, self.contact)
-        supply = (self.e_start + abs(led.work_loads - self.src0) + abs(led.work_supports)
-                  + abs(self.src0))
+        supply = (self.e_start + abs(led.work_loads - self.loads0)
+                  + abs(led.work_supports - self.supports0))
         if e_now > RUNAWAY_MARGIN * supply + self.tol_e:
             raise RunUnstable(
                 f"discrete run unstable at step {state.step} (t = {state.time:.6g} s): "

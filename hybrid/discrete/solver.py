@@ -254,11 +254,12 @@ class ExplicitSolver:
             self._wbuf = WallBuffers()
         dt = o.dt
         chosen = dt is None and not state.dt > 0.0  # else given, or a continued state's
-        if chosen:  # within the damped contacts' limit
-            dt = integrate.default_dt(state, o.safety, contact=self.contact, bbar=o.bbar)
+        crit = integrate.critical_time_step(state, contact=self.contact, bbar=o.bbar)
+        if chosen:  # within the critical step and the damped contacts' limit
+            dt = integrate.default_dt(state, o.safety, contact=self.contact, critical=crit)
         elif dt is None:
             dt = state.dt
-        integrate.check_dt(state, float(dt), contact=self.contact, bbar=o.bbar)
+        integrate.check_dt(state, float(dt), contact=self.contact, critical=crit)
         if self.contact and not chosen:  # the damped contacts stable at a step not chosen here?
             fault = integrate.damped_contact_fault(state, float(dt))
             if fault is not None:
@@ -457,7 +458,8 @@ class ExplicitSolver:
         fault = input_fault(st)
         if fault is not None:
             raise ValueError(f"discrete run refused: {fault}")
-        integrate.check_dt(st, dt, contact=self.contact, bbar=self.options.bbar)
+        # the run continues the solver's step (checked when it started) under the in-run rule
+        check_distortion(st, dt, self.contact)
         if not st.primed:
             integrate.prime(st)
         self._begin()
@@ -627,7 +629,7 @@ class ExplicitSolver:
         for name, value in fields_.items():
             setattr(st, name, value)
         self.dt = st.dt
-        integrate.check_dt(st, self.dt, contact=self.contact, bbar=self.options.bbar)
+        check_distortion(st, self.dt, self.contact)  # as the run it resumes did
         self.steps, self.n_split, self.active_contacts, n_done = (
             int(v) for v in extra["solver.numbers"])
         done = []

@@ -36,6 +36,7 @@ from hybrid.references.bearing import (
 )
 from hybrid.references.carsington import (
     CARSINGTON_CORE_DISPLACEMENT,
+    CARSINGTON_CREST_CRACK_MM,
     CARSINGTON_FAILURE_FILL_LEVEL,
     CARSINGTON_FOS,
     CARSINGTON_POST_FAILURE,
@@ -136,4 +137,5 @@ __all__ = [
     "CARSINGTON_CORE_DISPLACEMENT",
     "CARSINGTON_REPORT_LEVELS",
     "CARSINGTON_POST_FAILURE",
+    "CARSINGTON_CREST_CRACK_MM",
 ]

@@ -92,6 +92,9 @@ CARSINGTON_CORE_DISPLACEMENT = (
     Band("Chen (1992), finite elements: 100-150 mm", 100.0, 150.0, 199.0, 200.0))
 #: fill levels of the thesis's core displacements [m OD]
 CARSINGTON_REPORT_LEVELS = (198.0, 200.5)
+#: the longitudinal crack on the crest before the slide [mm]: about 50 mm wide when first
+#: reported (07:30, 4 June 1984), 130 mm at most by that evening (thesis section 6.2.4)
+CARSINGTON_CREST_CRACK_MM = (50.0, 130.0)
 #: movements observed after the 1984 slip [m]: (value, source), keyed by the discrete phase's
 #: measure ("upstream_toe_movement": towards upstream; "crest_drop": down)
 CARSINGTON_POST_FAILURE = {
