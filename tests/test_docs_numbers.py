@@ -138,10 +138,10 @@ QUOTES: list[Quote] = [
     ("docs/carsington.md", "Default run: rest at t = {} s; {} interfaces failed;",
      lambda: [carsington()["discrete"]["time_s"], carsington()["discrete"]["interfaces_failed"]]),
     ("docs/carsington.md", "at least {} m (a crack, not a slip surface sliding closed), joined "
-     "to the crest's top. None is found at any time (the check fails). The failed interfaces "
-     "at the crest's top slide without opening: the widest stands open by {} m during the "
-     "slide, against the crack of {} mm reported on the crest on 4 June 1984 and {} mm that "
-     "evening. At rest {} interfaces of a crack are joined to the crest",
+     "to the crest's top. None is found at any time (the check fails). The widest opening of a "
+     "failed interface at the crest's top at any check is {} m, against the crack of {} mm "
+     "reported on the crest on 4 June 1984 and {} mm that evening. At rest {} interfaces of a "
+     "crack are joined to the crest",
      lambda: [carsington()["parameters"]["slip_min"],
               carsington()["discrete"]["crest_crack_during_slide_surface_opening_m"],
               *ref.CARSINGTON_CREST_CRACK_MM,
@@ -301,8 +301,9 @@ QUOTES: list[Quote] = [
      lambda: [_soft_disc(n)["toe_runout_m"] for n in SOFT_MESHES] + _soft_sizes(SOFT_MESHES)),
     ("docs/carsington.md", "within the {} % bar on every mesh of {} m and finer",
      lambda: _toe_within_bar()),
-    ("docs/carsington.md", "the widest opening there during the slide is {}, {}, {}, {}, {}, "
-     "{}, {} and {} mm on those meshes, short of the {}-{} mm crack surveyed",
+    ("docs/carsington.md", "the widest opening of a failed interface at the crest's top at any "
+     "check is {}, {}, {}, {}, {}, {}, {} and {} mm on those meshes, short of the {}-{} mm "
+     "crack surveyed",
      lambda: [1000.0 * _soft_disc(n)["crest_crack_during_slide_surface_opening_m"]
               for n in SOFT_MESHES] + list(ref.CARSINGTON_CREST_CRACK_MM)
      if max(_soft_disc(n)["crest_crack_during_slide_surface_opening_m"] for n in SOFT_MESHES)

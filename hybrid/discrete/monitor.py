@@ -197,8 +197,9 @@ def check_distortion(state: DiscreteState, dt: float, contact: bool) -> None:
     """Stop when the elements have distorted so far that their time-step scale fell below dt.
 
     The scale (``integrate.stable_time_step``, L_min / c_p) lies above the critical step
-    (``integrate.critical_time_step``), so this catches gross distortion only; the run would
-    otherwise end in NaN a few steps later. The message names the remedies.
+    (``integrate.critical_time_step``) on undistorted elements, so this catches gross
+    distortion only; the run would otherwise end in NaN a few steps later. The message names
+    the remedies. Also the check of a continued or resumed run's step (``ExplicitSolver``).
     """
     crit = integrate.stable_time_step(state, contact=contact)
     if dt > crit:

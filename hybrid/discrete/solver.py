@@ -424,7 +424,7 @@ class ExplicitSolver:
                 prescribed velocities or masses; a tie group free to move without mass.
             RuntimeError: the run turned unstable (non-finite numbers, mechanical energy
                 above ``RUNAWAY_MARGIN`` times its sources, elements distorted below the
-                stable step); the message names the likeliest cause.
+                time-step scale); the message names the likeliest cause.
         """
         if until_time is None and max_steps is None and until_rest is None:
             raise ValueError("give at least one of until_time, max_steps, until_rest")

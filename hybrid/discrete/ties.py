@@ -24,7 +24,7 @@ perfectly plastic element the stress is capped on the yield surface, so the trac
 edge not aligned with the critical plane never reaches the bond strength, and a flowing region
 would otherwise distort its elements until they invert.
 An element also parts from its neighbours when it has distorted as far as an element can
-follow the flow: when its stable time step (the smaller of the ratios of its least altitude
+follow the flow: when its time-step scale (the smaller of the ratios of its least altitude
 and of sqrt(1 / longest edge) to their values at creation: ``stable_step_ratio``) has fallen
 below ``DISTORTION_LIMIT``, or a Q4 has folded towards a corner (the least ratio of a
 corner's Jacobian to its value at creation, ``corner_ratio``, below ``CORNER_LIMIT``), at a
@@ -32,9 +32,9 @@ splitting check, it becomes a fragment for good
 (``DiscreteState.fragment_cap``, ``mark_fragments``): its splittable bonds fail and its
 points yield no further than its most strained one had then (``plastic_cap``), since a
 fragment flowing further inside would pancake and stop the explicit run. The
-corner check is needed besides the stable step: an isochoric flow can fold a Q4 into a dart
+corner check is needed besides the time-step scale: an isochoric flow can fold a Q4 into a dart
 (one corner's two edges turning into line, then past it) while its area and longest edge, so
-its stable step, barely change; the folded element then inverts between two checks and ends
+its time-step scale, barely change; the folded element then inverts between two checks and ends
 the run in non-finite numbers. A failed interface unties: the tie groups of the edge's two
 vertices are rebuilt as the connected components of the graph "node - intact interface -
 node" among the group's members.
@@ -64,11 +64,11 @@ FAIL_PLASTIC = 3
 FAIL_SOFTENED = 4
 FAIL_DISTORTED = 5
 
-#: An element parts from its neighbours once its stable time step has fallen below this
+#: An element parts from its neighbours once its time-step scale has fallen below this
 #: fraction of its value at creation [-]. With the run's time step half the smallest initial
 #: one (``RunOptions.safety`` = 0.5, the default) an element stopped here keeps a margin of
 #: half again over the time step for the elastic response of the fragment it becomes, as the
-#: stable step is estimated (one contact spring per node); a fragment pinched on two sides
+#: scale is estimated (one contact spring per node); a fragment pinched on two sides
 #: sees about twice that stiffness, which this margin does not cover (a known limit). A
 #: safety above the limit lets the smallest elements reach the run's step first: the run then
 #: stops as distorted (``monitor.check_distortion``).
@@ -76,7 +76,7 @@ DISTORTION_LIMIT = 0.75
 #: A Q4 also parts from its neighbours once the Jacobian at one of its corners (twice the
 #: area of the triangle of that corner's two edges) has fallen below this fraction of its
 #: value at creation [-]: the element is folding towards a dart at that corner, which its
-#: stable step does not show (see module). A simple shear keeps every corner's Jacobian and a
+#: time-step scale does not show (see module). A simple shear keeps every corner's Jacobian and a
 #: uniform squash scales all four alike (meeting ``DISTORTION_LIMIT`` first), so this limit is
 #: met by a fold, not by the flow a parallelogram follows. For a T3 every corner's Jacobian is
 #: twice its area.
@@ -244,7 +244,7 @@ def mark_fragments(state: DiscreteState, limit: float = DISTORTION_LIMIT,
                    corner_limit: float = CORNER_LIMIT) -> int:
     """Make fragments of the elements distorted beyond the limits.
 
-    Distorted: the stable step ratio below ``limit``, or a Q4 folding at a corner
+    Distorted: the time-step scale ratio below ``limit``, or a Q4 folding at a corner
     (``corner_ratio`` below ``corner_limit``). A new fragment's ``state.fragment_cap`` is the
     largest plastic strain of its points now; a fragment stays one with that cap. Returns how
     many became fragments.
