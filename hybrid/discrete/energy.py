@@ -3,7 +3,7 @@
 supply(t) = E(start) + the work of gravity and loads and of the supports since the start,
 with E = kinetic + strain + contact elastic energy and ``start`` the ledger when the run
 began (``RunResult.start``; the ledger's works are totals since the state was made, so a
-continued run's count from its own start). A run whose mechanical energy never exceeds its
+continued run's works count from its own start). A run whose mechanical energy never exceeds its
 supply has bounded energy (dissipation takes the difference).
 """
 
