@@ -38,6 +38,9 @@ class CellSnapshot:
         degree: polynomial degree of the continuum displacement (1: the point values map
             one to one onto the discrete Gauss points when the rules match).
         points: (n_cells, n_points_per_cell, 2) continuum quadrature points [m].
+        point_areas: (n_cells, n_points_per_cell) the area each point carries, its rule's
+            weight times the Jacobian determinant of the undeformed cell there [m2]
+            (a cell's mean of a point field is the sum of area x value over the cell's area).
         stress: (n_cells, n_points_per_cell, 4) stress at those points [kPa].
         plastic_strain: (n_cells, n_points_per_cell) equivalent plastic strain [-].
         yielded: (n_cells, n_points_per_cell) 1 where the point yielded in the last step.
@@ -61,6 +64,7 @@ class CellSnapshot:
     strength_factor: float
     degree: int
     points: np.ndarray
+    point_areas: np.ndarray
     stress: np.ndarray
     plastic_strain: np.ndarray
     yielded: np.ndarray
@@ -79,10 +83,17 @@ class CellSnapshot:
         if self.x.shape != self.x_undeformed.shape or self.x.ndim != 2 or self.x.shape[1] != 2:
             raise ValueError("CellSnapshot.x and x_undeformed must both be (n_points, 2), got "
                              f"{self.x.shape} and {self.x_undeformed.shape}")
-        for name in ("material", "points", "stress", "plastic_strain", "yielded"):
+        for name in ("material", "points", "point_areas", "stress", "plastic_strain",
+                     "yielded"):
             if len(getattr(self, name)) != n:
                 raise ValueError(f"CellSnapshot.{name} must have one row per cell ({n}), got "
                                  f"{len(getattr(self, name))}")
+        if self.point_areas.shape != self.points.shape[:2]:
+            raise ValueError("CellSnapshot.point_areas must have one area per quadrature point "
+                             f"{self.points.shape[:2]}, got {self.point_areas.shape}")
+        if n and not np.all(self.point_areas > 0.0):
+            raise ValueError("CellSnapshot.point_areas must be positive (a point's weight x "
+                             "|det J|): an inverted or degenerate cell, or areas not filled in")
         if len(self.material_names) != len(self.materials):
             raise ValueError("CellSnapshot: one material name per material")
         if n and not 0 <= self.material.min() <= self.material.max() < len(self.materials):

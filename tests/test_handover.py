@@ -81,6 +81,28 @@ def test_conservation_and_mapping(case):
     assert d.fixed[h.boundary_nodes["left"], 0].all()
 
 
+def test_quadratic_cells_hand_over_their_area_weighted_means(case):
+    """Q2 (3 x 3 Gauss) and P2 cells -> Q4 / T3: every discrete Gauss point gets the cell's
+    area-weighted mean stress, the continuum's own cell mean (``cell_stress``, the local L2
+    projection onto constants), to round-off; on the Q2 cells the plain mean of the nine
+    points differs from it (the 3 x 3 rule's weights are unequal)."""
+    state = _slope_state(case, degree=2, cells="quadrilateral")
+    d = to_discrete(state).discrete
+    n = state.model.mesh.num_owned_cells
+    order = np.argsort(state.mesh.topology.original_cell_index[:n])  # the discrete order
+    expected = state.cell_stress()[order]
+    scale = float(np.max(np.abs(expected)))
+    for k in range(d.stress.shape[1]):
+        np.testing.assert_allclose(d.stress[:, k], expected, rtol=0, atol=1e-12 * scale)
+    plain = state.stress[order].mean(axis=1)
+    assert np.max(np.abs(plain - expected)) > 1e-6 * scale  # the test tells the two apart
+    tri = _slope_state(case, degree=2, cells="triangle")
+    order = np.argsort(tri.mesh.topology.original_cell_index[:tri.model.mesh.num_owned_cells])
+    np.testing.assert_allclose(to_discrete(tri).discrete.stress[:, 0],
+                               tri.cell_stress()[order], rtol=0,
+                               atol=1e-12 * float(np.max(np.abs(tri.stress))))
+
+
 def test_region_selection(case):
     """Region by plastic strain (none in an elastic state), by layers, everywhere."""
     state = _slope_state(case)

@@ -33,7 +33,8 @@ def _snapshot(**changes) -> CellSnapshot:
         material=np.array([0, 0]),
         materials=(Material(name="clay", E=1e5, nu=0.3, unit_weight=20.0),),
         material_names=("clay",), strength_factor=1.0, degree=2,
-        points=np.zeros((2, 4, 2)), stress=np.full((2, 4, 4), -10.0),
+        points=np.zeros((2, 4, 2)), point_areas=np.full((2, 4), 0.25),
+        stress=np.full((2, 4, 4), -10.0),
         plastic_strain=np.array([[0.0] * 4, [0.1] * 4]), yielded=np.zeros((2, 4), np.int8),
         boundary_edges={"base": np.array([[0, 1, 0], [1, 2, 1]]),
                         "top": np.array([[3, 4, 0], [4, 5, 1]])},
@@ -61,9 +62,33 @@ def test_start_from_a_snapshot_carries_mass_loads_supports_and_region():
     assert both.discrete.interface_splittable.tolist() == [True]
 
 
+def test_a_quadratic_cell_hands_over_its_area_weighted_mean():
+    """A P2 / Q2 cell's stress goes to every Gauss point as the local L2 projection onto
+    constants, sum A_q sigma_q / sum A_q: with unequal point areas (a 3 x 3 Gauss rule's
+    corner points carry 25/81 of the middle one's weight) the plain mean of the points is
+    another number, so the test tells the two apart."""
+    areas = np.array([[0.1, 0.2, 0.3, 0.4], [0.25, 0.25, 0.25, 0.25]])
+    stress = np.zeros((2, 4, 4))
+    stress[:, :, 1] = [[-10.0, -20.0, -30.0, -40.0], [-1.0, -2.0, -3.0, -6.0]]
+    stress[:, :, 3] = [[4.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 8.0]]
+    disc = start_from(_snapshot(point_areas=areas, stress=stress),
+                      region=Region(everywhere=True)).discrete
+    expected_yy = [(1.0 + 4.0 + 9.0 + 16.0) / 1.0 * -1.0, -3.0]  # sum A s / sum A
+    expected_xy = [0.4, 2.0]
+    assert disc.stress[:, :, 1] == pytest.approx(np.repeat(expected_yy, 4).reshape(2, 4),
+                                                 rel=1e-14)
+    assert disc.stress[:, :, 3] == pytest.approx(np.repeat(expected_xy, 4).reshape(2, 4),
+                                                 rel=1e-14)
+    assert disc.stress[0, 0, 1] != pytest.approx(stress[0, :, 1].mean())  # not the plain mean
+
+
 def test_a_snapshot_with_inconsistent_arrays_is_refused():
     with pytest.raises(ValueError, match="one row per cell"):
         _snapshot(stress=np.zeros((3, 4, 4)))
+    with pytest.raises(ValueError, match="one area per quadrature point"):
+        _snapshot(point_areas=np.full((2, 3), 0.25))
+    with pytest.raises(ValueError, match="point_areas must be positive"):
+        _snapshot(point_areas=np.zeros((2, 4)))
     with pytest.raises(ValueError, match="no such cell group"):
         start_from(_snapshot(), region=Region(group="rock"))
 

@@ -103,9 +103,14 @@ class ContinuumState:
 
         ``values``: (n_owned_cells, nqp, k).
         """
-        jac = evaluate_at_points(self.disc, abs(ufl.JacobianDeterminant(self.mesh)))[..., 0]
-        w = jac * self.disc.weights[None, :]
+        w = self.point_areas()
         return np.einsum("cq,cqk->ck", w, values) / w.sum(axis=1)[:, None]
+
+    def point_areas(self) -> np.ndarray:
+        """The area each quadrature point of every owned cell carries (n_owned_cells, nqp) [m2]:
+        the rule's weight times |det J| of the (undeformed) cell at the point."""
+        jac = evaluate_at_points(self.disc, abs(ufl.JacobianDeterminant(self.mesh)))[..., 0]
+        return jac * self.disc.weights[None, :]
 
     def extreme_displacement(self, component: int, *, largest: bool = False,
                              cells: np.ndarray | None = None) -> float:

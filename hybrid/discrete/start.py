@@ -89,10 +89,10 @@ def start_from_snapshot(snapshot: CellSnapshot, *, splittable: np.ndarray,
     match = None
     if exact:
         match = _match_points(disc, s.x_undeformed[s.cells].reshape(-1, 2), s.points)
-    disc.stress[:] = _carry_points(s.stress, ngp, exact, match)
+    disc.stress[:] = _carry_points(s.stress, ngp, match, s.point_areas)
     if exact:
-        disc.plastic_strain[:] = _carry_points(s.plastic_strain, ngp, True, match)
-        disc.yielded[:] = _carry_points(s.yielded, ngp, True, match)
+        disc.plastic_strain[:] = _carry_points(s.plastic_strain, ngp, match, s.point_areas)
+        disc.yielded[:] = _carry_points(s.yielded, ngp, match, s.point_areas)
     else:
         disc.plastic_strain[:] = s.plastic_strain.max(axis=1, keepdims=True)
         disc.yielded[:] = np.any(s.yielded > 0, axis=1, keepdims=True).astype(np.int8)
@@ -192,18 +192,21 @@ def _edge_force(load: tuple[float, float, float], xa: np.ndarray, xb: np.ndarray
     return force if tx == 0.0 and ty == 0.0 else force + np.array([tx, ty]) * length
 
 
-def _carry_points(values: np.ndarray, n_discrete: int, exact: bool,
-                  match: np.ndarray | None) -> np.ndarray:
+def _carry_points(values: np.ndarray, n_discrete: int, match: np.ndarray | None,
+                  areas: np.ndarray) -> np.ndarray:
     """Map (n, nqp, ...) continuum point values onto the discrete Gauss points.
 
-    ``exact``: the same rule; ``match[e, k]`` is the continuum point at discrete point k.
-    Otherwise the cell mean goes to every discrete point.
+    ``match`` (the same rule): ``match[e, k]`` is the continuum point at discrete point k.
+    Otherwise (None) the cell mean, the local L2 projection onto constants
+    sum_q A_q v_q / sum_q A_q with the points' areas ``areas`` (n, nqp) [m2], goes to every
+    discrete point.
     """
-    if exact:
-        assert match is not None  # an exact carry always comes with its point map
+    if match is not None:
         return np.take_along_axis(values, match.reshape(match.shape + (1,) * (values.ndim - 2)),
                                   axis=1).copy()
-    mean = values.mean(axis=1, keepdims=True)
+    weights = (areas / areas.sum(axis=1, keepdims=True)).reshape(areas.shape
+                                                                 + (1,) * (values.ndim - 2))
+    mean = np.sum(weights * values, axis=1, keepdims=True)
     return np.repeat(mean, n_discrete, axis=1)
 
 
