@@ -85,8 +85,18 @@ def test_quadratic_cells_hand_over_their_area_weighted_means(case):
     """Q2 (3 x 3 Gauss) and P2 cells -> Q4 / T3: every discrete Gauss point gets the cell's
     area-weighted mean stress, the continuum's own cell mean (``cell_stress``, the local L2
     projection onto constants), to round-off; on the Q2 cells the plain mean of the nine
-    points differs from it (the 3 x 3 rule's weights are unequal)."""
+    points differs from it (the 3 x 3 rule's weights are unequal). The points' areas sum to
+    each cell's own area (the shoelace formula on its undeformed vertices), independently of
+    the quadrature. On the affine P2 triangles (equal weights) the two means coincide: that
+    part guards the plumbing only."""
+    from hybrid.continuum.snapshot import cell_snapshot
+
     state = _slope_state(case, degree=2, cells="quadrilateral")
+    snap = cell_snapshot(state)
+    xc = snap.x_undeformed[snap.cells]
+    shoelace = 0.5 * np.abs(np.sum(xc[:, :, 0] * np.roll(xc[:, :, 1], -1, axis=1)
+                                   - np.roll(xc[:, :, 0], -1, axis=1) * xc[:, :, 1], axis=1))
+    np.testing.assert_allclose(snap.point_areas.sum(axis=1), shoelace, rtol=1e-12)
     d = to_discrete(state).discrete
     n = state.model.mesh.num_owned_cells
     order = np.argsort(state.mesh.topology.original_cell_index[:n])  # the discrete order

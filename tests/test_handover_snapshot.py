@@ -65,7 +65,7 @@ def test_start_from_a_snapshot_carries_mass_loads_supports_and_region():
 def test_a_quadratic_cell_hands_over_its_area_weighted_mean():
     """A P2 / Q2 cell's stress goes to every Gauss point as the local L2 projection onto
     constants, sum A_q sigma_q / sum A_q: with unequal point areas (a 3 x 3 Gauss rule's
-    corner points carry 25/81 of the middle one's weight) the plain mean of the points is
+    corner points carry 25/64 of the middle one's weight) the plain mean of the points is
     another number, so the test tells the two apart."""
     areas = np.array([[0.1, 0.2, 0.3, 0.4], [0.25, 0.25, 0.25, 0.25]])
     stress = np.zeros((2, 4, 4))

@@ -48,7 +48,8 @@ def cell_snapshot(state: Any, *, strength_factor: float | None = None,
         x_undeformed=data["x0"], x=data["x"], cells=data["cells"], material=data["material"],
         materials=tuple(state.materials_at(factor)), material_names=tuple(model.material_names),
         strength_factor=float(factor), degree=int(state.disc.degree), points=data["qp"],
-        point_areas=data["area"], stress=data["stress"], plastic_strain=data["plastic"], yielded=data["yielded"],
+        point_areas=data["area"], stress=data["stress"], plastic_strain=data["plastic"],
+        yielded=data["yielded"],
         boundary_edges=edges, supports=tuple(_held(s) for s in model.supports),
         smooth=tuple(s.boundary for s in model.supports if isinstance(s, Roller)),
         loads={load.boundary: _load_row(load) for load in model.loads},
@@ -100,7 +101,8 @@ def _gather(state: Any) -> dict[str, Any] | None:
             facets.append((tag, int(gid[verts[0]]), int(gid[verts[1]]), int(original[c])))
     qp = evaluate_at_points(state.disc, ufl.SpatialCoordinate(msh))  # (n, nqp, 2) [m]
     local = {
-        "qp": qp, "area": state.point_areas(), "cells": gid[cells], "original": original, "x": xu, "x0": x.copy(), "gid": gid,
+        "qp": qp, "area": state.point_areas(), "cells": gid[cells], "original": original,
+        "x": xu, "x0": x.copy(), "gid": gid,
         "material": state.model.material_ids(), "stress": state.stress,
         "plastic": state.plastic_strain, "yielded": state.yielded, "facets": facets,
         "active": np.ones(n, dtype=bool) if state.active is None else state.active,

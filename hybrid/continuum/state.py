@@ -107,8 +107,11 @@ class ContinuumState:
         return np.einsum("cq,cqk->ck", w, values) / w.sum(axis=1)[:, None]
 
     def point_areas(self) -> np.ndarray:
-        """The area each quadrature point of every owned cell carries (n_owned_cells, nqp) [m2]:
-        the rule's weight times |det J| of the (undeformed) cell at the point."""
+        """The area each quadrature point of every owned cell carries [m2].
+
+        (n_owned_cells, nqp): the rule's weight times |det J| of the undeformed cell at the
+        point (the continuum integrates on the undeformed mesh).
+        """
         jac = evaluate_at_points(self.disc, abs(ufl.JacobianDeterminant(self.mesh)))[..., 0]
         return jac * self.disc.weights[None, :]
 
