@@ -290,9 +290,10 @@ SERIES: dict[str, tuple[str, str]] = {
           "far end of the continuous deposit from the back wall and a = H0 / L0. The bar is "
           "15 % against the aluminium-rod laws of arXiv:1512.05180; Lube et al.'s (2005) sand "
           "laws, known only as quoted by others, are reported beside them. In the full run the "
-          "bar is met for the final height at every aspect ratio and missed for the run-out "
-          "at a = 1 and 2, which runs beyond the rods' law (the table gives by how much; the "
-          "rods give no run-out law at a = 0.5). The run-out moves by more than the bar with "
+          "bar is met for the final height at every aspect ratio; the run-out is one packing's "
+          "(docs/hybrid.md compares three packings, whose run-outs scatter about as much as "
+          "the bar), and runs beyond the rods' law at a = 2 (the table gives by how much; "
+          "the rods give no run-out law at a = 0.5). The run-out moves by more than the bar with "
           "the contact angle's calibration spread (about 2 deg between packings) and grows as "
           "the grains get finer (not converged), so it is compared at grains of L0 / 20. The "
           "reduced run (`hybrid verify` without `--full`) uses coarser grains."),
