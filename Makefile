@@ -59,13 +59,15 @@ verify: setup
 
 # the hybrid cases behind docs/hybrid.md and docs/carsington.md: their summaries (docs/summaries/,
 # every figure the docs quote; tests/test_docs_numbers.py checks the quotes) and figures
-# (docs/figures/). Five independent parts (`make -j2 docs` runs two at once), then the quoted
+# (docs/figures/). Six independent parts (`make -j2 docs` runs two at once), then the quoted
 # figures rewritten from the new summaries.
 DOCS_RUN := results/docs
 CARS := $(PY) -m hybrid run cases/carsington.py --set progress=false --overwrite
-.PHONY: docs-h2 docs-h3-d10 docs-carsington-construction docs-carsington-slide docs-r1
+.PHONY: docs-h2 docs-h3-d10 docs-carsington-construction docs-carsington-slide docs-r1 \
+	docs-r1-assumptions
 
-docs: docs-h2 docs-h3-d10 docs-carsington-construction docs-carsington-slide docs-r1
+docs: docs-h2 docs-h3-d10 docs-carsington-construction docs-carsington-slide docs-r1 \
+	docs-r1-assumptions
 	# every figure the docs quote rewritten from the new summaries (the changes are printed:
 	# read them, and mend the words around a figure that changed its meaning)
 	$(PY) tests/test_docs_numbers.py
@@ -100,9 +102,16 @@ docs-h2: setup
 	    $(PY) -m hybrid run cases/footing_failure.py --out $(DOCS_RUN)/h2_$$name --overwrite \
 	    --set progress=false --set discrete=false "$$@" || exit 1; \
 	    elif [ $$rc -ne 0 ] && [ $$rc -ne 4 ]; then exit 1; fi; done
+	# the perfectly plastic soil (c_r = c) on the default quadrilaterals and on triangles of the
+	# same size, continuum only: the collapse load of the two cell shapes without softening
+	for run in "perfect" "triangle_perfect --set cells=triangle"; do set -- $$run; name=$$1; \
+	    shift; $(PY) -m hybrid run cases/footing_failure.py --out $(DOCS_RUN)/h2_$$name \
+	    --overwrite --set progress=false --set discrete=false --set residual_cohesion=69 "$$@" \
+	    || exit 1; done
 	for c in h2 h2_fine0.16 h2_fine0.12 h2_fine0.04 h2_structured h2_punch h2_punch_fine0.04 \
 	    h2_punch_v0.125 h2_punch_v0.125_fine0.04 h2_punch_fine0.12 h2_punch_structured \
-	    h2_punch_ur0.1 h2_punch_ur0.4 h2_structured_fine0.04 h2_punch_structured_fine0.04; do \
+	    h2_punch_ur0.1 h2_punch_ur0.4 h2_structured_fine0.04 h2_punch_structured_fine0.04 \
+	    h2_perfect h2_triangle_perfect; do \
 	    cp $(DOCS_RUN)/$$c/summary.json docs/summaries/$$c.json; done
 	cp $(DOCS_RUN)/h2/load_settlement.png docs/figures/hybrid/h2_load_settlement.png
 	cp $(DOCS_RUN)/h2_punch/load_settlement.png docs/figures/hybrid/h2_punch_load_settlement.png
@@ -210,6 +219,22 @@ docs-r1: setup
 	$(PY) -c "import json, runpy; f = runpy.run_path('cases/granular_collapse.py')['plot_deposits']; \
 	  f('docs/figures/hybrid/r1_deposits.png', [json.load(open(f'docs/summaries/r1_a{a}.json')) \
 	  for a in ('0.5', '1', '2')])"
+
+# R1's assumed grain parameters, each changed alone at a = 1 and 2: the contact damping ratio
+# (0.1 and 0.6 beside the case's 0.3), the grains' stiffness (E ten times the case's 840 kPa)
+# and the contact angle (the calibrated 11.1 deg less 2, and 1 and 2 more: its uncertainty)
+docs-r1-assumptions: setup
+	mkdir -p docs/summaries
+	for a in 2 1; do for z in 0.1 0.6; do $(PY) -m hybrid run cases/granular_collapse.py \
+	  --out $(DOCS_RUN)/r1_a$${a}_zeta$$z --set aspect=$$a --set contact_damping=$$z \
+	  --set progress=false --overwrite || [ $$? -eq 4 ] || exit 1; done; \
+	  $(PY) -m hybrid run cases/granular_collapse.py --out $(DOCS_RUN)/r1_a$${a}_E8400 \
+	  --set aspect=$$a --set E=8400 --set progress=false --overwrite || [ $$? -eq 4 ] || exit 1; \
+	  for c in 9.1 12.1 13.1; do $(PY) -m hybrid run cases/granular_collapse.py \
+	  --out $(DOCS_RUN)/r1_a$${a}_phic$$c --set aspect=$$a --set contact_phi=$$c \
+	  --set progress=false --overwrite || [ $$? -eq 4 ] || exit 1; done; done
+	for a in 1 2; do for r in zeta0.1 zeta0.6 E8400 phic9.1 phic12.1 phic13.1; do \
+	  cp $(DOCS_RUN)/r1_a$${a}_$$r/summary.json docs/summaries/r1_a$${a}_$$r.json; done; done
 
 bench: setup
 	$(PY) -m hybrid bench --json results/bench.json

@@ -105,6 +105,85 @@ def _r1_height_gap(run: str) -> float:
     return 100.0 * (d["height_over_H0"] / d["references"]["rods2015_height"] - 1.0)
 
 
+def _h2_perfect() -> list[float]:
+    """H2's perfectly plastic collapse load on triangles and quadrilaterals of the default
+    size and their difference [%]; [] unless the runs are what the words say (c_r = c, the
+    cell shapes, the default size) and within the 3 % bar of a limit load."""
+    t, q = (_json(f"docs/summaries/h2_{r}.json") for r in ("triangle_perfect", "perfect"))
+    if not all(s["parameters"]["residual_cohesion"] == s["parameters"]["cohesion"]
+               and s["parameters"]["fine"] == h2()["parameters"]["fine"] for s in (t, q)):
+        return []
+    if (t["parameters"]["cells"], q["parameters"]["cells"]) != ("triangle", "quadrilateral"):
+        return []
+    pt, pq = (s["continuum"]["collapse_pressure_kPa"] for s in (t, q))
+    gap = 100.0 * abs(pt / pq - 1.0)
+    return [pt, pq, gap] if gap <= 3.0 else []
+
+
+def _r1_variant(run: str, key: str, value: float) -> list[float]:
+    """(L_inf - L0) / L0 and H_inf / H0 of R1's run ``a1_<run>`` and ``a2_<run>``, which
+    change the case parameter ``key`` to ``value`` (the row's words) and nothing else."""
+    out = []
+    for a in ("1", "2"):
+        s, base = r1(f"a{a}_{run}"), r1(f"a{a}")
+        changed = {k for k, v in s["parameters"].items() if base["parameters"][k] != v}
+        if changed != {key} or s["parameters"][key] != value:
+            raise ValueError(f"r1_a{a}_{run} changes {changed}, not {key} = {value} alone")
+        out += [s["deposit"]["normalised_runout"], s["deposit"]["height_over_H0"]]
+    return out
+
+
+def _r1_moved() -> list[float]:
+    """The largest change of R1's run-out [%] at a = 1 and 2 when the contact damping or the
+    grains' stiffness changes (``_r1_variant``), against the case's run; [] unless each is
+    within the scatter of the three packings (the words of the quote)."""
+    moved = [max(abs(100.0 * (r1(f"a{a}_{v}")["deposit"]["normalised_runout"]
+                              / r1(f"a{a}")["deposit"]["normalised_runout"] - 1.0))
+                 for v in ("zeta0.1", "zeta0.6", "E8400")) for a in ("1", "2")]
+    scatter = [100.0 * _rel_spread([r1(run)["deposit"]["normalised_runout"]
+                                    for run in _r1_packings(a)]) for a in ("1", "2")]
+    return moved if all(m <= s for m, s in zip(moved, scatter)) else []
+
+
+def _r1_change(a: str, run: str) -> float:
+    """Change of R1's run-out [%] in run ``a<a>_<run>`` from the case's run at that a."""
+    return 100.0 * (r1(f"a{a}_{run}")["deposit"]["normalised_runout"]
+                    / r1(f"a{a}")["deposit"]["normalised_runout"] - 1.0)
+
+
+def _r1_most(a: str) -> str:
+    """The assumed-parameter run that moves R1's run-out most at aspect ratio ``a``."""
+    return max(("zeta0.1", "zeta0.6", "E8400", "phic9.1", "phic12.1", "phic13.1"),
+               key=lambda run: abs(_r1_change(a, run)))
+
+
+def _r1_heights_rise(a: str) -> bool:
+    """Whether R1's final height rises with the contact angle (9.1, the calibrated, 12.1,
+    13.1 deg) at aspect ratio ``a``."""
+    h = [r1(f"a{a}{run}")["deposit"]["height_over_H0"]
+         for run in ("_phic9.1", "", "_phic12.1", "_phic13.1")]
+    return all(x < y for x, y in zip(h, h[1:]))
+
+
+def _r1_angle_spans() -> list[float]:
+    """How far R1's runs at 2 deg less and more than the calibrated contact angle differ [%]:
+    run-out at a = 1 and 2, then final height; [] unless the run-out's differences exceed the
+    restitution's and stiffness's changes and the height's are at least as large (the words
+    of the quote)."""
+    spans = [100.0 * _rel_spread([r1(f"a{a}_phic{c}")["deposit"][k] for c in (9.1, 13.1)])
+             for k in ("normalised_runout", "height_over_H0") for a in ("1", "2")]
+    moved = _r1_moved()
+    if len(moved) == 2 and all(spans[i] > moved[i] and spans[i + 2] >= spans[i]
+                               for i in (0, 1)):
+        return spans
+    return []
+
+
+def _restitution(zeta: float) -> float:
+    """Coefficient of restitution of a linear contact of damping ratio ``zeta``."""
+    return math.exp(-math.pi * zeta / math.sqrt(1.0 - zeta * zeta))
+
+
 def verify(case: str) -> dict[str, Any]:
     """The case's entry of the committed verification results, rows by name."""
     (entry,) = [c for c in _json("docs/verification/results.json")["cases"] if c["id"] == case]
@@ -717,6 +796,62 @@ QUOTES: list[Quote] = [
      "and 2)",
      lambda: [100.0 * (r1(f"a{a}_nx30")["deposit"]["runout_m"] / r1(f"a{a}")["deposit"][
          "runout_m"] - 1.0) for a in ("0.5", "1", "2")]),
+    ("docs/hybrid.md", "collapses on the triangles at {} kPa and on the quadrilaterals at {} kPa: "
+     "on the default size and without softening the cell shape moves the limit load by {} %",
+     _h2_perfect),
+    ("docs/hybrid.md", "| none: zeta = {}, E = {} kPa, phi_c = {} deg | {}, {} | {}, {} |",
+     lambda: [r1("a1")["parameters"]["contact_damping"], r1("a1")["parameters"]["E"],
+              r1("a1")["grains"]["contact_phi_deg"]]
+     + [r1(f"a{a}")["deposit"][k] for a in ("1", "2")
+        for k in ("normalised_runout", "height_over_H0")]),
+    *[("docs/hybrid.md", f"| contact damping zeta = {z} (restitution {{}}) | {{}}, {{}} | "
+       "{}, {} |", lambda z=z: [_restitution(z), *_r1_variant(f"zeta{z}", "contact_damping", z)])
+      for z in (0.1, 0.6)],
+    ("docs/hybrid.md", "| grains ten times stiffer, E = {} kPa | {}, {} | {}, {} |",
+     lambda: [e := 10.0 * r1("a1")["parameters"]["E"], *_r1_variant("E8400", "E", e)]),
+    *[("docs/hybrid.md", f"| contact angle phi_c = {c} deg (the calibrated one {words} deg) | "
+       "{}, {} | {}, {} |", lambda c=c, d=d: _r1_variant(f"phic{c}", "contact_phi", c)
+       if abs(c - r1("a1")["grains"]["contact_phi_deg"] - d) < 0.05 else [])
+      for c, words, d in ((9.1, "less 2", -2.0), (12.1, "and 1", 1.0), (13.1, "and 2", 2.0))],
+    ("docs/hybrid.md", "change the run-out by up to {} % at a = 1 and {} % at a = 2 from the "
+     "case's run, no more than the packings' scatter (above), and at a = 1 the same way "
+     "whichever way zeta moves",
+     lambda: _r1_moved() if (_r1_change("1", "zeta0.1") > 0) == (_r1_change("1", "zeta0.6") > 0)
+     else []),
+    ("docs/hybrid.md", "At a = 2 only the most damped contacts (zeta = 0.6) bring this "
+     "packing's run-out within 15 % of the rods ({} % beyond)",
+     lambda: [-g] if 0.0 <= -(g := _r1_gap("a2_zeta0.6")) <= 15.0
+     and all(_r1_gap(f"a2{v}") < -15.0 for v in ("", "_zeta0.1", "_E8400")) else []),
+    ("docs/hybrid.md", "The contact angle moves the run-out most: 2 deg less than the calibrated "
+     "angle by {} % at a = 1 ({} % beyond the rods; {} % at a = 2), 2 deg more by {} % at "
+     "a = 2 ({} % short of the rods); the final height rises with the angle at both aspect "
+     "ratios",
+     lambda: [abs(_r1_change("1", "phic9.1")), -_r1_gap("a1_phic9.1"), -_r1_gap("a2_phic9.1"),
+              abs(_r1_change("2", "phic13.1")), _r1_gap("a2_phic13.1")]
+     if _r1_most("1") == "phic9.1" and _r1_most("2") == "phic13.1"
+     and _r1_gap("a1_phic9.1") < 0 and _r1_gap("a2_phic9.1") < 0 and _r1_gap("a2_phic13.1") > 0
+     and all(_r1_heights_rise(a) for a in ("1", "2")) else []),
+    ("docs/hybrid.md", "this packing's run-out and final height within 15 % of the rods at both "
+     "aspect ratios (the largest gap {} %)",
+     lambda: [g] if (g := max(max(abs(_r1_gap(f"a{a}_phic12.1")),
+                                  abs(_r1_height_gap(f"a{a}_phic12.1"))) for a in ("1", "2")))
+     <= 15.0 else []),
+    ("docs/hybrid.md", "calibrated angle (its uncertainty either side) differ by {} % and {} % "
+     "in run-out and by {} % and {} % in final height at a = 1 and 2 (the larger over the "
+     "smaller)",
+     _r1_angle_spans),
+    ("docs/hybrid.md", "more lifts the final height at a = 1 to {} % above the rods'",
+     lambda: [g] if (g := _r1_height_gap("a1_phic13.1")) > 15.0 else []),
+    ("docs/hybrid.md", "so its gap ({} to {} % over the three packings, above)",
+     lambda: [-max(_r1_gap(run) for run in _r1_packings("2")),
+              -min(_r1_gap(run) for run in _r1_packings("2"))]
+     if all(_r1_gap(run) < -15.0 for run in _r1_packings("2")) else []),
+    ("docs/hybrid.md", "whose run-out scatters by {} and {} % at a = 1 and 2: above",
+     lambda: [100.0 * _rel_spread([r1(run)["deposit"]["normalised_runout"]
+                                   for run in _r1_packings(a)]) for a in ("1", "2")]),
+    ("docs/hybrid.md", "| the rods | {}, {} | {}, {} |",
+     lambda: [r1(f"a{a}")["deposit"]["references"][k] for a in ("1", "2")
+              for k in ("rods2015_runout", "rods2015_height")]),
 ]
 
 
