@@ -194,6 +194,13 @@ docs-carsington-slide: setup
 	    "design_height_softening_size2 --set discrete_softening=true --set size=2"; do \
 	    set -- $$run; name=$$1; shift; $(CARS) --out $(DOCS_RUN)/carsington_$$name \
 	    --set safety=false --set yellow_clay_length=30 "$$@" || [ $$? -eq 4 ] || exit 1; done
+	# the design-height runs with softening on the 6, 4 and 3 m meshes with the yellow clay 3 cm
+	# shorter and longer: how far one run moves under a change far below what is known of it
+	for Y in 29.97 30.03; do for size in 6 4 3; do \
+	    tail=$$( [ $$size = 6 ] || echo _size$$size ); \
+	    $(CARS) --out $(DOCS_RUN)/carsington_design_height_softening$${tail}_Y$$Y \
+	    --set safety=false --set yellow_clay_length=$$Y --set discrete_softening=true \
+	    --set size=$$size || [ $$? -eq 4 ] || exit 1; done; done
 	for md in 0.5 3; do $(CARS) --out $(DOCS_RUN)/carsington_damping$$md --set safety=false \
 	    --set mass_damping=$$md || [ $$? -eq 4 ] || exit 1; done
 	for c in carsington_softening carsington_softening_ur0.2 carsington_softening_ur1 \
@@ -202,7 +209,12 @@ docs-carsington-slide: setup
 	    carsington_softening_size1.5 carsington_discrete_softening carsington_design_height \
 	    carsington_design_height_softening carsington_design_height_softening_size4 \
 	    carsington_design_height_softening_size3 carsington_design_height_softening_size2 \
-	    carsington_damping0.5 carsington_damping3; do \
+	    carsington_damping0.5 carsington_damping3 \
+	    carsington_design_height_softening_Y29.97 carsington_design_height_softening_Y30.03 \
+	    carsington_design_height_softening_size4_Y29.97 \
+	    carsington_design_height_softening_size4_Y30.03 \
+	    carsington_design_height_softening_size3_Y29.97 \
+	    carsington_design_height_softening_size3_Y30.03; do \
 	    cp $(DOCS_RUN)/$$c/summary.json docs/summaries/$$c.json; done
 	cp $(DOCS_RUN)/carsington_softening/discrete_final.png \
 	    docs/figures/carsington/softening_discrete_final.png

@@ -159,6 +159,30 @@ def _h3_across() -> list[float]:
     return [100.0 * (1.0 - mu / ms), mu, ms, max(u), min(s)]
 
 
+def _cars_samples(size: str) -> list[dict[str, Any]]:
+    """Carsington's design-height softening runs on one mesh (``size``: "" for 6 m, "_size4",
+    "_size3") with the yellow clay 29.97, 30 and 30.03 m long: their discrete summaries; a
+    ValueError unless the runs are what the table says."""
+    runs = [_json(f"docs/summaries/carsington_design_height_softening{size}{tail}.json")
+            for tail in ("_Y29.97", "", "_Y30.03")]
+    if [r["parameters"]["yellow_clay_length"] for r in runs] != [29.97, 30.0, 30.03] or len(
+            {r["parameters"]["size"] for r in runs}) != 1:
+        raise ValueError(f"carsington_design_height_softening{size}*: not the three lengths")
+    return [r["discrete"] for r in runs]
+
+
+def _cars_sample_spreads() -> list[float]:
+    """The toe's and then the crest drop's scatter [%] on the 6, 4 and 3 m meshes (largest
+    over smallest of three runs); [] unless the 4 to 3 m step of the toe lies within the
+    scatter (the words)."""
+    toe = [100.0 * _rel_spread([d["toe_runout_m"] for d in _cars_samples(z)])
+           for z in ("", "_size4", "_size3")]
+    crest = [100.0 * _rel_spread([d["crest_drop_m"] for d in _cars_samples(z)])
+             for z in ("", "_size4", "_size3")]
+    step = 100.0 * _rel_spread([_soft_disc(n)["toe_runout_m"] for n in DESIGN_HEIGHT_MESHES[1:3]])
+    return toe + crest if step <= min(toe[1:]) else []
+
+
 def _r1_variant(run: str, key: str, value: float) -> list[float]:
     """(L_inf - L0) / L0 and H_inf / H0 of R1's run ``a1_<run>`` and ``a2_<run>``, which
     change the case parameter ``key`` to ``value`` (the row's words) and nothing else."""
@@ -916,6 +940,26 @@ QUOTES: list[Quote] = [
     ("docs/hybrid.md", "| the rods | {}, {} | {}, {} |",
      lambda: [r1(f"a{a}")["deposit"]["references"][k] for a in ("1", "2")
               for k in ("rods2015_runout", "rods2015_height")]),
+    # --- docs/carsington.md: one run is one sample ------------------------------------
+    *[("docs/carsington.md", f"| {m} | {{}}, {{}} | {{}}, {{}} | {{}}, {{}} |",
+       lambda z=z: [v for d in _cars_samples(z) for v in (d["toe_runout_m"], d["crest_drop_m"])])
+      for m, z in (("6", ""), ("4", "_size4"), ("3", "_size3"))],
+    ("docs/carsington.md", "One run's toe movement scatters by at least {}, {} and {} % on the 6, "
+     "4 and 3 m meshes (largest over smallest of three runs), its crest drop by {}, {} and {} %",
+     _cars_sample_spreads),
+    ("docs/carsington.md", "on the 3 m mesh one of the three advances {} m, within 30 % of the "
+     "observed {} m",
+     lambda: [t, 12.0] if [abs(d["toe_runout_m"] / 12.0 - 1.0) <= 0.3
+                           for d in _cars_samples("_size3")].count(True) == 1
+     and (t := max(d["toe_runout_m"] for d in _cars_samples("_size3"))) else []),
+    ("docs/carsington.md", "the three runs' means on the 4 and 3 m meshes ({} and {} m) are {} % "
+     "apart, within 30 % of the observed {} m. None of the nine runs opens a crack from the "
+     "crest during the slide",
+     lambda: [a, b, 100.0 * abs(a / b - 1.0), 10.0]
+     if min(a := sum(d["crest_drop_m"] for d in _cars_samples("_size4")) / 3.0,
+            b := sum(d["crest_drop_m"] for d in _cars_samples("_size3")) / 3.0) >= 7.0
+     and not any(d["crest_crack_during_slide_seen"] for z in ("", "_size4", "_size3")
+                 for d in _cars_samples(z)) else []),
 ]
 
 
