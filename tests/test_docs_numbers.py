@@ -105,6 +105,34 @@ def _r1_height_gap(run: str) -> float:
     return 100.0 * (d["height_over_H0"] / d["references"]["rods2015_height"] - 1.0)
 
 
+def _h2_sample(name: str, width: float) -> list[float]:
+    """Collapse [kPa], final settlement and heave [m] of an H2 run on the default or the
+    structured 0.08 m mesh; a ValueError unless its half-width is within 0.1 % of ``width``
+    and nothing else differs from its mesh's base run."""
+    s = _json(f"docs/summaries/{name}.json")
+    base = _json("docs/summaries/h2_structured.json" if s["parameters"]["structured"]
+                 else "docs/summaries/h2.json")
+    changed = {k for k, v in s["parameters"].items() if base["parameters"][k] != v}
+    if not (changed <= {"width"} and abs(s["parameters"]["width"] / width - 1.0) <= 1.0001e-3):
+        raise ValueError(f"{name}: changes {changed}")
+    d = s["discrete"]
+    return [s["continuum"]["collapse_pressure_kPa"], d["final_settlement_m"],
+            d["max_heave_beside_footing_m"]]
+
+
+def _h2_sample_spread() -> list[float]:
+    """The largest spread [%] of the final settlement and of the heave over the width
+    samples of each mesh; [] unless both stay below the structured mesh's excess over the
+    default one (the words: the mesh type's, not chance)."""
+    groups = (("h2_W4.7952", "h2"), ("h2_structured_W4.7952", "h2_structured",
+                                      "h2_structured_W4.8048"))
+    spread = [max(100.0 * _rel_spread([_h2_sample(n, 4.8)[k] for n in g]) for g in groups)
+              for k in (1, 2)]
+    excess = [100.0 * (_h2_sample("h2_structured", 4.8)[k] / _h2_sample("h2", 4.8)[k] - 1.0)
+              for k in (1, 2)]
+    return spread if all(sp < ex for sp, ex in zip(spread, excess)) else []
+
+
 def _h2_perfect() -> list[float]:
     """H2's perfectly plastic collapse load on triangles and quadrilaterals of the default
     size and their difference [%]; [] unless the runs are what the words say (c_r = c, the
@@ -677,6 +705,13 @@ QUOTES: list[Quote] = [
     ("docs/hybrid.md", "(spread {} % over those five meshes, within the 3 % bar)",
      lambda: [s] if (s := 100.0 * (max(q := [_json(f"docs/summaries/{n}.json")["continuum"][
          "collapse_pressure_kPa"] for n in H2_MESHES]) - min(q)) / min(q)) <= 3.0 else []),
+    ("docs/hybrid.md", "| quads, `fine=0.08` (default) | {}, {}, {} | {}, {}, {} | stalls before "
+     "the collapse |", lambda: [v for n in ("h2_W4.7952", "h2") for v in _h2_sample(n, 4.8)]),
+    ("docs/hybrid.md", "| structured quads, `fine=0.08` | {}, {}, {} | {}, {}, {} | {}, {}, {} |",
+     lambda: [v for n in ("h2_structured_W4.7952", "h2_structured", "h2_structured_W4.8048")
+              for v in _h2_sample(n, 4.8)]),
+    ("docs/hybrid.md", "Between these runs the settlement moves by at most {} % and the heave by "
+     "{} % (largest over smallest on each mesh)", _h2_sample_spread),
     # --- docs/hybrid.md: H3 -----------------------------------------------------------------
     ("docs/hybrid.md", "| {} m | {} | {} | {} | {} |\n| 0.5 m (default)",
      lambda: _h3_row("h3_size1.0")),
