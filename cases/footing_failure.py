@@ -16,7 +16,12 @@ Set-up
        footing pressure raised until Newton finds no equilibrium: the last converged pressure
        is the collapse load (compare Terzaghi / Meyerhof / Vesic, C7) when the settlement ran
        away there (its rate per kPa at least 10 times the initial one); otherwise the case
-       stops.
+       stops. ``continuum_control=settlement`` drives the footing's mean settlement instead
+       (indirect displacement control, up to ``continuum_settlement``, 0.1 m, in
+       ``continuum_steps`` increments) until the pressure has fallen ``PEAK_FALL`` (1 %)
+       below its largest value: that peak is the collapse load and the handover state; a
+       path whose pressure never falls (Newton stalled, or the settlement ended first)
+       stops the case.
     2. Handover at the last converged state: every cell becomes a Q4 (or T3) element;
        every bond may fail where its strength is exceeded (interface strength = the soil's
        c, phi, tension cut-off c cot phi) and no element is held (``region_layers`` and
@@ -74,7 +79,7 @@ from pathlib import Path
 
 import numpy as np
 
-from hybrid.continuum import PlasticSolver
+from hybrid.continuum import DisplacementControl, PlasticSolver
 from hybrid.continuum.series import ContinuumSeries
 from hybrid.discrete.energy import energy_excess, energy_peak_ratio, phase_history
 from hybrid.discrete.figures import plot_configuration
@@ -82,6 +87,7 @@ from hybrid.discrete.measures import FootingMarks
 from hybrid.discrete.outputs import standard_outputs
 from hybrid.discrete.runs import LoadProgram, PunchProgram
 from hybrid.discrete.solver import ExplicitSolver, RunOptions
+from hybrid.errors import StageIncomplete
 from hybrid.figures import engineering_figures
 from hybrid.geometry import build_mesh, load_builder
 from hybrid.handover import Region, to_discrete
@@ -93,6 +99,9 @@ from hybrid.references import strip_footing_estimates
 from hybrid.report import plot_energy, plot_load_settlement
 
 MESHES = Path(__file__).resolve().parent.parent / "meshes"
+#: (continuum_control=settlement) the pressure's fall below its largest value that shows the
+#: peak passed [-]: a fall in the Newton tolerance's noise is far smaller
+PEAK_FALL = 0.01
 
 
 @dataclass
@@ -114,7 +123,14 @@ class Parameters(CaseParameters):
     #                           unstructured mesh under a size field, quads by recombination)
     fine: float = param(0.08, gt=0)  # element size at the footing edge [m]
     coarse: float = param(0.4, gt=0)  # element size far away [m]
-    continuum_steps: int = param(24, ge=1)  # pressure increments up to ``pressure``
+    continuum_steps: int = param(24, ge=1)  # pressure increments up to ``pressure`` (or
+    #                                          settlement increments: continuum_control)
+    continuum_control: str = param("pressure", choices=("pressure", "settlement"))  # the
+    #                           continuum's load path: the pressure raised until no
+    #                           equilibrium, or the footing's settlement driven past the
+    #                           pressure's peak (the header)
+    continuum_settlement: float = param(0.1, gt=0)  # (settlement) the largest mean
+    #                           settlement followed [m]
     control: str = param("pressure", choices=("pressure", "punch"))  # discrete loading (header)
     punch_speed: float = param(0.25, gt=0)  # speed of the pushed footing (control=punch) [m/s]
     punch_ramp_time: float = param(0.5, gt=0)  # (control=punch) the push's speed raised and
@@ -180,13 +196,22 @@ def main(out: str | Path = "results/footing_failure", **overrides) -> CaseSummar
     # the load steps as a time series, the time the footing pressure
     with ContinuumSeries(out / "continuum_steps.xdmf", solver,
                          meaning="load factor = footing pressure [kPa]") as series:
-        analysis = solver.ramp(p.pressure, p.continuum_steps)
-    curve += [(r.monitors["settlement"], r.load_factor) for r in solver.history
-              if "settlement" in r.monitors]
-    # stopped short of the pressure: a collapse only if the settlement ran away
-    analysis.require_collapse([q for _, q in curve], [s for s, _ in curve])
-    collapsed = not analysis.completed
-    q_handover = analysis.factor
+        if p.continuum_control == "pressure":
+            analysis = solver.ramp(p.pressure, p.continuum_steps)
+            history = [(r.monitors["settlement"], r.load_factor) for r in solver.history
+                       if "settlement" in r.monitors]
+            # stopped short of the pressure: a collapse only if the settlement ran away
+            analysis.require_collapse([q for _, q in curve + history],
+                                      [u for u, _ in curve + history])
+            collapsed, q_handover, peak = not analysis.completed, analysis.factor, None
+        else:
+            q_handover, peak = _settlement_peak(solver, p)
+            collapsed = True
+    history = [(r.monitors["settlement"], r.load_factor) for r in solver.history
+               if "settlement" in r.monitors]
+    # the curve up to the state handed over (past a peak, the increments that showed the
+    # pressure falling are in the continuum series only)
+    curve += history[:int(np.argmax([q for _, q in history])) + 1] if peak else history
     state = solver.state()
     estimates = strip_footing_estimates(p.cohesion, p.phi, p.unit_weight, p.footing_width)
 
@@ -199,8 +224,9 @@ def main(out: str | Path = "results/footing_failure", **overrides) -> CaseSummar
                       "wall_time_s": state.info["wall_time_s"],
                       "collapse_pressure_kPa": q_handover if collapsed else None,
                       "handover_pressure_kPa": q_handover,
-                      "reached_target": analysis.completed,
-                      "curve": curve, "series": series.report()}},
+                      "reached_target": not collapsed,
+                      "curve": curve, "series": series.report(),
+                      **({} if peak is None else {"settlement_control": peak})}},
         # the classical formulae are limit loads of rigid perfectly plastic soil: a reference
         # only when the soil does not soften
         checks={f"collapse_vs_{k}": Check.published(q_handover, v, None, "kPa", k,
@@ -322,6 +348,37 @@ def main(out: str | Path = "results/footing_failure", **overrides) -> CaseSummar
                              f"({settlement:.3f} m since handover), "
                              f"{int((~disc.interface_intact).sum())} failed interfaces")
     return summary
+
+
+def _settlement_peak(solver: PlasticSolver, p: Parameters) -> tuple[float, dict]:
+    """The collapse load as the peak of a settlement-controlled path (continuum_control=settlement).
+
+    The footing's mean settlement is driven to ``continuum_settlement`` in ``continuum_steps``
+    increments (``PlasticSolver.follow``) until the pressure has fallen ``PEAK_FALL`` below
+    its largest value. The solver is left at the peak. Returns (peak pressure [kPa], what the
+    path did); raises StageIncomplete if the pressure did not fall past a peak (Newton
+    stalled, or the settlement ended first).
+    """
+    best: list = [solver.load_factor, solver.snapshot()]
+
+    def keep(s: PlasticSolver) -> bool:
+        if s.load_factor > best[0]:
+            best[:] = [s.load_factor, s.snapshot()]
+        return s.load_factor < (1.0 - PEAK_FALL) * best[0]
+
+    start = len(solver.history)
+    followed = solver.follow(DisplacementControl("footing", 1), -p.continuum_settlement,
+                             p.continuum_steps, stop=keep)
+    if not solver.load_factor < (1.0 - PEAK_FALL) * best[0]:
+        raise StageIncomplete(
+            f"continuum under settlement control: the footing pressure did not fall "
+            f"{100 * PEAK_FALL:g} % below its largest value {best[0]:.6g} kPa (settlement "
+            f"{-followed.factor:.4g} m{'' if followed.completed else ', Newton stalled'}): "
+            "no collapse found. Give a larger continuum_settlement or more continuum_steps")
+    info = {"increments": len(solver.history) - start, "settlement_m": -followed.factor,
+            "final_pressure_kPa": solver.load_factor}
+    solver.restore(best[1])
+    return best[0], info
 
 
 def _displacement(solver: PlasticSolver, points: np.ndarray) -> np.ndarray:

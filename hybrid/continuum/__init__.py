@@ -17,11 +17,11 @@ for _handler in _logging.getLogger().handlers:
 _logging.getLogger("UFL").setLevel(_logging.ERROR)
 
 from hybrid.continuum.analysis import Analysis  # noqa: E402
-from hybrid.continuum.control import DisplacementControl  # noqa: E402
+from hybrid.continuum.control import DisplacementControl, DissipationControl  # noqa: E402
 from hybrid.continuum.elastic import solve_elastic  # noqa: E402
 from hybrid.continuum.plastic import NewtonOptions, PlasticSolver  # noqa: E402
 from hybrid.continuum.state import ContinuumState  # noqa: E402
 from hybrid.continuum.strength_reduction import factor_of_safety  # noqa: E402
 
-__all__ = ["Analysis", "ContinuumState", "DisplacementControl", "NewtonOptions", "PlasticSolver",
-           "factor_of_safety", "solve_elastic"]
+__all__ = ["Analysis", "ContinuumState", "DisplacementControl", "DissipationControl",
+           "NewtonOptions", "PlasticSolver", "factor_of_safety", "solve_elastic"]

@@ -22,6 +22,23 @@ to turn back) is not followed, and the step then fails like any other non-conver
 The safeguards of :class:`~hybrid.continuum.plastic.PlasticSolver` apply unchanged (line
 search on the joint step, divergence test, ``max_displacement`` per increment, halving of
 the increment down to ``min_increment``).
+
+Dissipation control (``DissipationControl``): the path parameter is an energy that grows
+while material yields, even where the load and every displacement turn back together (a
+snap-back, which no displacement measure follows): energy release control (Gutierrez 2004,
+Commun. Numer. Meth. Engng 20, 19-29) and the dissipation-based arc-length method (Verhoosel,
+Remmers & Gutierrez 2009, IJNME 77, 1290-1321). Here, for an elasto-plastic solid, each
+increment prescribes the plastic work of the external force of its start,
+
+    Delta D = F_n . (Du - d lambda y) = tau,        K_e y = f_ext,
+
+F_n the external force of the converged state (its internal force, by equilibrium; gravity
+included), y the displacement per unit load factor of the elastic structure (K_e its elastic
+stiffness, factorised once per path), so that Du - d lambda y is the part of the increment an
+elastic unloading would not recover: 0 for an elastic increment, positive while the material
+flows. The constraint is linear (h = F_n, w = -F_n . y in the bordered solve). An elastic
+state cannot be steered by it (its slope F_n . (b - y) vanishes): it continues a path on
+which plastic flow has begun, after displacement control has stopped for example.
 """
 
 from __future__ import annotations
@@ -42,11 +59,12 @@ from petsc4py import PETSc
 
 from hybrid.continuum.analysis import Analysis
 from hybrid.continuum.fields import surface_load
+from hybrid.continuum.solver import lu_solver
 
 if TYPE_CHECKING:
     from hybrid.continuum.plastic import PlasticSolver, StepRecord
 
-__all__ = ["ControlledPath", "DisplacementControl"]
+__all__ = ["ControlledPath", "DisplacementControl", "DissipationControl"]
 
 log = logging.getLogger(__name__)
 
@@ -71,14 +89,23 @@ class DisplacementControl:
                              "(x) or 1 (y)")
 
 
+@dataclass(frozen=True)
+class DissipationControl:
+    """The energy dissipated in the structure drives the surface loads [kJ/m] (module docstring).
+
+    Its measure is the energy dissipated since the solver first followed it.
+    """
+
+
 class ControlledPath:
-    """Newton under indirect displacement control for one :class:`PlasticSolver`.
+    """Newton under displacement or dissipation control for one :class:`PlasticSolver`.
 
     Built once (it assembles the reference load vector and locates the controlled dofs);
     :meth:`follow` moves the controlled measure to a target in increments.
     """
 
-    def __init__(self, solver: PlasticSolver, control: DisplacementControl) -> None:
+    def __init__(self, solver: PlasticSolver,
+                 control: DisplacementControl | DissipationControl) -> None:
         model = solver.model
         if not model.loads:
             raise ValueError("displacement control drives the model's surface loads: the model "
@@ -88,15 +115,21 @@ class ControlledPath:
                              "prescribed displacements (Displacement supports) from the model, "
                              "or ramp them with PlasticSolver.ramp")
         V = solver.disc.V
-        facets = model.mesh.facets(control.boundary)  # raises a clear error for an unknown name
-        dofs = fem.locate_dofs_topological(V.sub(control.component), 1, facets)
-        owned = V.dofmap.index_map.size_local * V.dofmap.index_map_bs
-        self._dofs = np.asarray(dofs[dofs < owned], dtype=np.int64)
-        self._count = V.mesh.comm.allreduce(len(self._dofs), op=MPI.SUM)
-        if self._count == 0:
-            raise ValueError(f"displacement control: boundary '{control.boundary}' has no "
-                             "dofs; choose a boundary of the mesh")
         self.solver = solver
+        if isinstance(control, DisplacementControl):
+            # raises a clear error for an unknown name
+            facets = model.mesh.facets(control.boundary)
+            dofs = fem.locate_dofs_topological(V.sub(control.component), 1, facets)
+            owned = V.dofmap.index_map.size_local * V.dofmap.index_map_bs
+            self._dofs = np.asarray(dofs[dofs < owned], dtype=np.int64)
+            self._count = V.mesh.comm.allreduce(len(self._dofs), op=MPI.SUM)
+            if self._count == 0:
+                raise ValueError(f"displacement control: boundary '{control.boundary}' has "
+                                 "no dofs; choose a boundary of the mesh")
+            self._work: _PlasticWork | None = None
+        else:
+            self._work = _PlasticWork(solver)
+        self._dissipated = 0.0  # energy dissipated along this path [kJ/m] (dissipation only)
         self.control = control
         one = fem.Constant(V.mesh, PETSc.ScalarType(1.0))
         self._load_form = fem.form(surface_load(model, ufl.TestFunction(V), solver.disc.ds, one))
@@ -105,16 +138,26 @@ class ControlledPath:
         # the first iterate of the next one only if nothing else moved the solver since
         self._last: tuple[np.ndarray, float, float] | None = None
         self._last_count = -1
+        self._converged: tuple[np.ndarray, float] | None = None  # kept after a failure
         self._d_lam = 0.0  # the load-factor increment of the line search's last move
 
     # --- the controlled measure ------------------------------------------------------------
+    @property
+    def stage(self) -> str:
+        """The path in words, for messages."""
+        if isinstance(self.control, DisplacementControl):
+            return f"displacement of '{self.control.boundary}'"
+        return "energy dissipated"
+
     def measure(self, values: np.ndarray) -> float:
         """The measure c . u: the controlled component's mean over the boundary's dofs [m]."""
         local = float(np.sum(values[self._dofs]))
         return self.solver.disc.V.mesh.comm.allreduce(local, op=MPI.SUM) / self._count
 
     def displacement(self) -> float:
-        """The controlled measure of the solver's total displacement [m]."""
+        """The controlled measure now: [m] of the total displacement, or [kJ/m] dissipated."""
+        if self._work is not None:
+            return self._dissipated
         return self.measure(self.solver.u.x.array)
 
     def _reference_load(self, bcs: list) -> PETSc.Vec:
@@ -124,9 +167,12 @@ class ControlledPath:
         return f
 
     # --- one increment --------------------------------------------------------------------
-    def _newton(self, ds: float, guess: tuple[np.ndarray, float] | None
+    def _newton(self, ds: float, guess: tuple[np.ndarray, float] | None, fit: bool = False
                 ) -> tuple[bool, list[float], float]:
-        """Solve one increment c . Du = ``ds``; returns (converged, residuals, d lambda)."""
+        """Solve one increment of the measure ``ds``; returns (converged, residuals, d lambda).
+
+        ``guess``: the first iterate (Du, d lambda); ``fit``: scale it to the constraint first.
+        """
         s = self.solver
         opts = s.options
         bcs = s.bc.bcs + s._inactive_bcs
@@ -145,9 +191,20 @@ class ControlledPath:
         s.Du.x.scatter_forward()
         f_ext = self._reference_load(bcs)
         s._lam.value = lam0 + d_lam
+        if self._work is not None:
+            self._work.start(f_ext)
+            if fit:  # another path's increment, scaled to dissipate ds
+                done, work = self._work.dissipation(d_lam), self._work.work()
+                # an elastic increment dissipates nothing but round-off: no guess then
+                scale = ds / done if done > 1e-8 * abs(work) else 0.0
+                du *= scale
+                d_lam *= scale
+                s.Du.x.scatter_forward()
+                s._lam.value = lam0 + d_lam
         s._update_stress()
         norm = s._residual()
-        gap = self.measure(du) - ds
+        gap = self._gap(du, d_lam, ds)
+        tolerance = 1e-10 * abs(ds)
         residuals: list[float] = []
         scale = max(s._internal_norm(), abs(float(s._lam.value)) + 1.0, 1.0)
         try:
@@ -155,7 +212,7 @@ class ControlledPath:
                 residuals.append(norm)
                 if not np.isfinite(norm):
                     return False, residuals, d_lam
-                if norm <= opts.tolerance * scale and abs(gap) <= 1e-10 * abs(ds):
+                if norm <= opts.tolerance * scale and abs(gap) <= tolerance:
                     return True, residuals, d_lam
                 # divergence against the first residual of the increment; from a zero first
                 # iterate that residual is the converged one (~0): use the predictor's instead
@@ -173,20 +230,50 @@ class ControlledPath:
                 s.delta.x.scatter_forward()
                 self._b.x.scatter_forward()
                 a, b = s.delta.x.array, self._b.x.array
-                cb = self.measure(b)
-                if not math.isfinite(cb) or cb == 0.0:
+                ha, hb = self._slopes(d_lam)
+                if not math.isfinite(hb) or hb == 0.0:
                     return False, residuals, d_lam  # the load does not move the measure
-                dd_lam = (self.measure(a) - gap) / cb
+                dd_lam = (ha - gap) / hb
                 move = self._joint(du.copy(), -a + dd_lam * b, lam0, d_lam, dd_lam)
                 norm = s._line_search(move, norm)
                 d_lam = self._d_lam
-                gap = self.measure(du) - ds
+                gap = self._gap(du, d_lam, ds)
                 s.iterations_total += 1
             residuals.append(norm)
-            return (norm <= opts.tolerance * scale and abs(gap) <= 1e-10 * abs(ds),
+            return (norm <= opts.tolerance * scale and abs(gap) <= tolerance,
                     residuals, d_lam)
         finally:
             f_ext.destroy()
+
+    def _gap(self, du: np.ndarray, d_lam: float, ds: float) -> float:
+        """The constraint's residual at the current iterate (its stress updated)."""
+        if self._work is None:
+            return self.measure(du) - ds
+        return self._work.dissipation(d_lam) - ds
+
+    def _slopes(self, d_lam: float) -> tuple[float, float]:
+        """The linearised constraint g + h . delta u + w delta lambda: (h . a, h . b + w).
+
+        a = K^-1 R and b = K^-1 f_ext, in ``solver.delta`` and ``_b``.
+        """
+        s = self.solver
+        if self._work is None:
+            return self.measure(s.delta.x.array), self.measure(self._b.x.array)
+        return self._work.slopes(s.delta.vector, self._b.vector)
+
+    def _recent(self) -> tuple[np.ndarray, float] | None:
+        """(Du, d lambda) of the increment that moved the solver last, if it drove the loads.
+
+        A load step of :meth:`PlasticSolver.ramp` or an increment of another controlled path.
+        """
+        s = self.solver
+        for p in s._paths.values():
+            if p._converged is not None and p._last_count == len(s.history):
+                return p._converged
+        last = s._last_increment
+        if last is not None and last[1] == "load":
+            return last[0], last[2]
+        return None
 
     def _joint(self, du: np.ndarray, direction: np.ndarray, lam0: float, d_lam: float,
                change: float) -> Callable[[float], None]:
@@ -211,19 +298,30 @@ class ControlledPath:
         """
         s = self.solver
         start = time.perf_counter()
-        guess = None
+        guess, fit = None, False
         if self._last is not None and self._last_count == len(s.history):
             du, dl, ds_prev = self._last
             guess = (du * (ds / ds_prev), dl * (ds / ds_prev))
-        ok, residuals, d_lam = self._newton(ds, guess)
+        elif self._work is not None:
+            # from an elastic first iterate every point answers elastically and the
+            # dissipation cannot steer: start from the increment of the path that moved the
+            # solver last, scaled to dissipate ds
+            recent = self._recent()
+            if recent is not None:
+                guess, fit = recent, True
+        ok, residuals, d_lam = self._newton(ds, guess, fit)
         ok = ok and s._small_strain()
         s.wall_time += time.perf_counter() - start
         if not ok:
             s._lam.value = s.load_factor
             s.sspace.assign(s.stress_q, s.stress)
-            self._last = None
+            if self._work is None:
+                self._last = None
             return None
         self._last = (s.Du.x.array.copy(), d_lam, ds)
+        self._converged = (self._last[0], d_lam)
+        if self._work is not None:
+            self._dissipated += ds
         record = s._commit(None, 0.0, len(residuals) - 1, residuals, d_lam, 0.0)
         self._last_count = len(s.history)
         return record
@@ -251,7 +349,7 @@ class ControlledPath:
             raise ValueError(f"follow: target = {target!r} m must be a finite displacement")
         s = self.solver
         current = self.displacement()
-        stage = f"displacement of '{self.control.boundary}'"
+        stage = self.stage
         size = (target - current) / steps
         if size == 0.0:
             return Analysis(True, current, 0, stage, target)
@@ -262,7 +360,7 @@ class ControlledPath:
             inc = control.size if abs(control.size) < abs(target - current) else target - current
             if self.step(inc) is None:
                 if not control.cut():
-                    log.info("%s: no equilibrium beyond %.6g m", stage, current)
+                    log.info("%s: no equilibrium beyond %.6g", stage, current)
                     return Analysis(False, current, control.cuts, stage, target)
                 continue
             control.grow()
@@ -270,3 +368,70 @@ class ControlledPath:
             if stop is not None and stop(s):
                 break
         return Analysis(True, current, control.cuts, stage, target)
+
+
+class _PlasticWork:
+    """The dissipation constraint's pieces (module docstring): F_n and y = K_e^-1 f_ext."""
+
+    def __init__(self, solver: PlasticSolver) -> None:
+        self.solver = solver
+        self._elastic: PETSc.Vec | None = None  # y, once per path
+        self._start: tuple[PETSc.Vec, float] | None = None  # F_n, F_n . y
+
+    def _elastic_displacement(self, f_ext: PETSc.Vec) -> PETSc.Vec:
+        """The elastic displacement y = K_e^-1 f_ext (the elastic matrix in the Jacobian form)."""
+        s = self.solver
+        K = s.table[s.point_material, 0]
+        G = s.table[s.point_material, 1]
+        lam = K - 2.0 * G / 3.0
+        D = np.zeros((s.npoints, 4, 4))
+        D[:, :3, :3] = lam[:, None, None]
+        D[:, [0, 1, 2], [0, 1, 2]] += 2.0 * G[:, None]
+        D[:, 3, 3] = G
+        if not s.active.all():  # as in the solver's update: inactive cells nearly void
+            D[np.repeat(~s.active, s.disc.num_points)] *= 1e-9
+        s.tspace.assign(s.tangent_q, D)
+        A = fem_petsc.create_matrix(s._jacobian_form)
+        fem_petsc.assemble_matrix(A, s._jacobian_form, bcs=s._bcs_hom)  # type: ignore[misc]
+        A.assemble()
+        ksp = lu_solver(s.disc.V.mesh.comm, A)
+        y = f_ext.duplicate()
+        ksp.solve(f_ext, y)
+        ok = ksp.getConvergedReason() >= 0
+        ksp.destroy()
+        A.destroy()
+        if not ok:
+            raise RuntimeError("dissipation control: the elastic stiffness could not be "
+                               "factorised (a mechanism without plasticity: check the supports)")
+        return y
+
+    def start(self, f_ext: PETSc.Vec) -> None:
+        """At the start of an increment: F_n of the converged state and F_n . y."""
+        s = self.solver
+        if self._elastic is None:
+            self._elastic = self._elastic_displacement(f_ext)
+        s.sspace.assign(s.stress_q, s.stress)
+        force = fem_petsc.assemble_vector(s._internal_form)
+        force.ghostUpdate(addv=PETSc.InsertMode.ADD, mode=PETSc.ScatterMode.REVERSE)
+        fem_petsc.set_bc(force, s._bcs_hom)
+        if self._start is not None:
+            self._start[0].destroy()
+        self._start = (force, float(force.dot(self._elastic)))
+
+    def dissipation(self, d_lam: float) -> float:
+        """Delta D of the current iterate [kJ/m]."""
+        assert self._start is not None
+        force, fy = self._start
+        return float(force.dot(self.solver.Du.vector)) - d_lam * fy
+
+    def work(self) -> float:
+        """F_n . Du of the current iterate [kJ/m]: the work of the force of the start."""
+        assert self._start is not None
+        return float(self._start[0].dot(self.solver.Du.vector))
+
+    def slopes(self, a: PETSc.Vec, b: PETSc.Vec) -> tuple[float, float]:
+        """(h . a, h . b + w) with h = F_n and w = -F_n . y."""
+        assert self._start is not None
+        force, fy = self._start
+        return float(force.dot(a)), float(force.dot(b)) - fy
+

@@ -65,7 +65,11 @@ from hybrid.model import Model
 from hybrid.progress import progress
 
 if TYPE_CHECKING:
-    from hybrid.continuum.control import ControlledPath, DisplacementControl
+    from hybrid.continuum.control import (
+        ControlledPath,
+        DisplacementControl,
+        DissipationControl,
+    )
 
 __all__ = ["IncrementControl", "NewtonOptions", "PlasticSolver", "StepRecord", "material_table"]
 
@@ -244,7 +248,8 @@ class PlasticSolver:
         # the last converged increment, what drove it ("load" or "strength") and its size:
         # scaled, it is the first iterate of the next increment of the same kind
         self._last_increment: tuple[np.ndarray, str, float] | None = None
-        self._paths: dict[DisplacementControl, ControlledPath] = {}  # see :meth:`follow`
+        # see :meth:`follow`
+        self._paths: dict[DisplacementControl | DissipationControl, ControlledPath] = {}
 
     # --- constitutive update -------------------------------------------------------------
     def _update_stress(self) -> None:
@@ -453,15 +458,17 @@ class PlasticSolver:
         bar.close()
         return Analysis(True, current, control.cuts, stage, target)
 
-    def follow(self, control: DisplacementControl, target: float, steps: int, *,
-               stop: Callable[[PlasticSolver], bool] | None = None,
+    def follow(self, control: DisplacementControl | DissipationControl, target: float,
+               steps: int, *, stop: Callable[[PlasticSolver], bool] | None = None,
                min_increment: float | None = None) -> Analysis:
-        """Drive the surface loads by a displacement (indirect displacement control).
+        """Drive the surface loads by a displacement or by the energy dissipated.
 
-        Moves ``control``'s measure to ``target`` [m] in ``steps`` increments, the load factor
-        an unknown of each increment (:mod:`hybrid.continuum.control`). Past a peak the load
-        factor falls: a softening branch is followed as long as the measure keeps growing.
-        Returns an :class:`Analysis` whose factor is the displacement reached [m].
+        Moves ``control``'s measure to ``target`` ([m], or [kJ/m] dissipated since this
+        control was first followed) in ``steps`` increments, the load factor an unknown of
+        each increment (:mod:`hybrid.continuum.control`). Past a peak the load factor falls:
+        a softening branch is followed as long as the measure keeps growing (the dissipation
+        grows through a snap-back too). Returns an :class:`Analysis` whose factor is the
+        measure reached.
         """
         from hybrid.continuum.control import ControlledPath
 
