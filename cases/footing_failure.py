@@ -21,7 +21,8 @@ Set-up
        ``continuum_steps`` increments) until the pressure has fallen ``PEAK_FALL`` (1 %)
        below its largest value: that peak is the collapse load and the handover state; a
        path whose pressure never falls (Newton stalled, or the settlement ended first)
-       stops the case.
+       stops the case. The continuum's steps, iterations and time count the increments past
+       the peak too.
     2. Handover at the last converged state: every cell becomes a Q4 (or T3) element;
        every bond may fail where its strength is exceeded (interface strength = the soil's
        c, phi, tension cut-off c cot phi) and no element is held (``region_layers`` and
@@ -76,6 +77,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -211,7 +213,8 @@ def main(out: str | Path = "results/footing_failure", **overrides) -> CaseSummar
                if "settlement" in r.monitors]
     # the curve up to the state handed over (past a peak, the increments that showed the
     # pressure falling are in the continuum series only)
-    curve += history[:int(np.argmax([q for _, q in history])) + 1] if peak else history
+    curve += (history if peak is None
+              else history[:int(np.argmax([q for _, q in history])) + 1])
     state = solver.state()
     estimates = strip_footing_estimates(p.cohesion, p.phi, p.unit_weight, p.footing_width)
 
@@ -359,7 +362,7 @@ def _settlement_peak(solver: PlasticSolver, p: Parameters) -> tuple[float, dict]
     path did); raises StageIncomplete if the pressure did not fall past a peak (Newton
     stalled, or the settlement ended first).
     """
-    best: list = [solver.load_factor, solver.snapshot()]
+    best: list[Any] = [solver.load_factor, solver.snapshot()]  # peak pressure, its state
 
     def keep(s: PlasticSolver) -> bool:
         if s.load_factor > best[0]:

@@ -180,8 +180,13 @@ def _h2_settlement_agreement() -> list[float]:
     gap = max(100.0 * abs(_h2_settlement(n) / _json(f"docs/summaries/{m}.json")["continuum"][
         "collapse_pressure_kPa"] - 1.0) for n, m in pairs)
     wider = 100.0 * abs(_h2_settlement("W4.8048") / _h2_settlement("default") - 1.0)
-    stalled = not (ROOT / "docs/summaries/h2_W4.8048.json").exists()
-    return [spread, gap, wider] if spread <= 3.0 and stalled else []
+    return [spread, gap, wider] if spread <= 3.0 and _h2_load_stopped("W4.8048") else []
+
+
+def _h2_load_stopped(name: str) -> bool:
+    """Whether H2 under load control stalled on ``h2_load_<name>`` (its message kept)."""
+    stopped = ROOT / f"docs/summaries/h2_load_{name}.stopped.txt"
+    return stopped.exists() and "did not run away" in stopped.read_text()
 
 
 def _h2_triangle_gap() -> list[float]:
@@ -974,7 +979,7 @@ QUOTES: list[Quote] = [
      lambda: [24, _h2_settlement("default"), h2()["continuum"]["collapse_pressure_kPa"]]),
     ("docs/hybrid.md", "| quads 0.08 m, half-width 4.8048 m | {} | {} | stalls before the "
      "collapse |", lambda: [24, _h2_settlement("W4.8048")]
-     if not (ROOT / "docs/summaries/h2_W4.8048.json").exists() else []),
+     if _h2_load_stopped("W4.8048") else []),
     *[("docs/hybrid.md", f"| {label} | {{}} | {{}} | {{}} |",
        lambda n=n, m=m: [24, _h2_settlement(n),
                          _json(f"docs/summaries/{m}.json")["continuum"]["collapse_pressure_kPa"]])
@@ -986,14 +991,20 @@ QUOTES: list[Quote] = [
          "continuum_steps"], s["continuum"]["collapse_pressure_kPa"]]
      if _h2_settlement_stopped("structured_fine0.04") else []),
     ("docs/hybrid.md", "| triangles 0.08 m | {} | stalls before the peak | stalls |",
-     lambda: [24] if _h2_settlement_stopped("triangle") else []),
+     lambda: [24] if _h2_settlement_stopped("triangle") and _h2_load_stopped("triangle")
+     else []),
     ("docs/hybrid.md", "| triangles 0.08 m | {} | {} | |",
      lambda: [100, _h2_settlement("triangle_steps100")]),
     ("docs/hybrid.md", "The four quadrilateral meshes that reach the peak agree within {} %, "
      "within the 3 % bar", lambda: _h2_settlement_agreement()[:1]),
     ("docs/hybrid.md", "each within {} % of its own load-controlled collapse; the mesh {} % "
      "wider, whose load ramp stalls, collapses within {} % of the default one",
-     lambda: [a[1], 0.1, a[2]] if (a := _h2_settlement_agreement()) else []),
+     lambda: [a[1], 100.0 * (4.8048 / h2()["parameters"]["width"] - 1.0), a[2]]
+     if (a := _h2_settlement_agreement()) else []),
+    ("docs/hybrid.md", "outside the bar (strict xfail "
+     "`test_footing_failure_collapse_load_triangles`), where without softening the two cell "
+     "shapes agree within {} % (above)",
+     lambda: _h2_perfect()[2:]),
     ("docs/hybrid.md", "in {} ({} mm) it passes the peak at {} kPa, {} % below the default "
      "quadrilaterals under the same control: outside the bar",
      lambda: [(p := _json("docs/summaries/h2_settlement_triangle_steps100.json")["parameters"])[

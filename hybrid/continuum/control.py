@@ -35,10 +35,12 @@ increment prescribes the plastic work of the external force of its start,
 F_n the external force of the converged state (its internal force, by equilibrium; gravity
 included), y the displacement per unit load factor of the elastic structure (K_e its elastic
 stiffness, factorised once per path), so that Du - d lambda y is the part of the increment an
-elastic unloading would not recover: 0 for an elastic increment, positive while the material
-flows. The constraint is linear (h = F_n, w = -F_n . y in the bordered solve). An elastic
-state cannot be steered by it (its slope F_n . (b - y) vanishes): it continues a path on
-which plastic flow has begun, after displacement control has stopped for example.
+elastic unloading would not recover: 0 for an elastic increment, normally positive while
+the material flows (a first-order estimate of the dissipation). y is computed when the path
+first moves: the active cells, supports and loads stay as they were along the path. The
+constraint is linear (h = F_n, w = -F_n . y in the bordered solve). An elastic state cannot
+be steered by it (its slope F_n . (b - y) vanishes): it continues a path on which plastic
+flow has begun, after displacement control has stopped for example.
 """
 
 from __future__ import annotations
@@ -108,10 +110,10 @@ class ControlledPath:
                  control: DisplacementControl | DissipationControl) -> None:
         model = solver.model
         if not model.loads:
-            raise ValueError("displacement control drives the model's surface loads: the model "
+            raise ValueError("a controlled path drives the model's surface loads: the model "
                              "has none; add a Pressure or a Traction")
         if any(value != 0.0 for _, value in solver.bc.prescribed):
-            raise ValueError("displacement control scales the surface loads only: remove the "
+            raise ValueError("a controlled path scales the surface loads only: remove the "
                              "prescribed displacements (Displacement supports) from the model, "
                              "or ramp them with PlasticSolver.ramp")
         V = solver.disc.V
@@ -151,6 +153,8 @@ class ControlledPath:
 
     def measure(self, values: np.ndarray) -> float:
         """The measure c . u: the controlled component's mean over the boundary's dofs [m]."""
+        if self._work is not None:
+            raise TypeError("dissipation control has no displacement measure")
         local = float(np.sum(values[self._dofs]))
         return self.solver.disc.V.mesh.comm.allreduce(local, op=MPI.SUM) / self._count
 
@@ -204,7 +208,6 @@ class ControlledPath:
         s._update_stress()
         norm = s._residual()
         gap = self._gap(du, d_lam, ds)
-        tolerance = 1e-10 * abs(ds)
         residuals: list[float] = []
         scale = max(s._internal_norm(), abs(float(s._lam.value)) + 1.0, 1.0)
         try:
@@ -212,7 +215,7 @@ class ControlledPath:
                 residuals.append(norm)
                 if not np.isfinite(norm):
                     return False, residuals, d_lam
-                if norm <= opts.tolerance * scale and abs(gap) <= tolerance:
+                if norm <= opts.tolerance * scale and self._closed(gap, ds):
                     return True, residuals, d_lam
                 # divergence against the first residual of the increment; from a zero first
                 # iterate that residual is the converged one (~0): use the predictor's instead
@@ -230,7 +233,7 @@ class ControlledPath:
                 s.delta.x.scatter_forward()
                 self._b.x.scatter_forward()
                 a, b = s.delta.x.array, self._b.x.array
-                ha, hb = self._slopes(d_lam)
+                ha, hb = self._slopes()
                 if not math.isfinite(hb) or hb == 0.0:
                     return False, residuals, d_lam  # the load does not move the measure
                 dd_lam = (ha - gap) / hb
@@ -240,7 +243,7 @@ class ControlledPath:
                 gap = self._gap(du, d_lam, ds)
                 s.iterations_total += 1
             residuals.append(norm)
-            return (norm <= opts.tolerance * scale and abs(gap) <= tolerance,
+            return (norm <= opts.tolerance * scale and self._closed(gap, ds),
                     residuals, d_lam)
         finally:
             f_ext.destroy()
@@ -251,7 +254,16 @@ class ControlledPath:
             return self.measure(du) - ds
         return self._work.dissipation(d_lam) - ds
 
-    def _slopes(self, d_lam: float) -> tuple[float, float]:
+    def _closed(self, gap: float, ds: float) -> bool:
+        """Whether the constraint holds (to 1e-10 of ds).
+
+        Under dissipation control to 1e-10 of the work F_n . Du if larger: the dissipation is
+        a difference of such terms (round-off).
+        """
+        size = abs(ds) if self._work is None else max(abs(ds), abs(self._work.work()))
+        return abs(gap) <= 1e-10 * size
+
+    def _slopes(self) -> tuple[float, float]:
         """The linearised constraint g + h . delta u + w delta lambda: (h . a, h . b + w).
 
         a = K^-1 R and b = K^-1 f_ext, in ``solver.delta`` and ``_b``.
@@ -291,7 +303,7 @@ class ControlledPath:
         return move
 
     def step(self, ds: float) -> StepRecord | None:
-        """Advance the controlled measure by ``ds`` [m].
+        """Advance the controlled measure by ``ds`` ([m], or [kJ/m] dissipated).
 
         Returns None (state unchanged) if no equilibrium was found. The first iterate is the
         last converged increment scaled.
@@ -329,13 +341,13 @@ class ControlledPath:
     def follow(self, target: float, steps: int, *,
                stop: Callable[[PlasticSolver], bool] | None = None,
                min_increment: float | None = None) -> Analysis:
-        """Move the controlled measure to ``target`` [m] in ``steps`` increments.
+        """Move the controlled measure to ``target`` ([m] or [kJ/m]) in ``steps`` increments.
 
         Increments are halved when Newton fails, down to ``min_increment`` (default
         ``NewtonOptions.min_increment``) of the first, and regrown after converged ones, as
         in :meth:`PlasticSolver.ramp`. ``stop(solver)`` True after a converged increment ends
         the path there (completed). Returns an :class:`Analysis` whose ``factor`` is the
-        controlled displacement reached [m]; the load factor of each step is in
+        controlled measure reached; the load factor of each step is in
         ``solver.history``. A path that stopped short found the peak if the load fell or the
         structure's stiffness vanished on its last step
         (:meth:`~hybrid.continuum.analysis.Analysis.require_limit`); the collapse load is
@@ -346,7 +358,8 @@ class ControlledPath:
         if steps < 1:
             raise ValueError(f"follow: steps = {steps} must be >= 1")
         if not math.isfinite(target):
-            raise ValueError(f"follow: target = {target!r} m must be a finite displacement")
+            raise ValueError(f"follow: target = {target!r} must be a finite number ([m], or "
+                             "[kJ/m] dissipated)")
         s = self.solver
         current = self.displacement()
         stage = self.stage
@@ -433,5 +446,7 @@ class _PlasticWork:
         """(h . a, h . b + w) with h = F_n and w = -F_n . y."""
         assert self._start is not None
         force, fy = self._start
-        return float(force.dot(a)), float(force.dot(b)) - fy
+        fb = float(force.dot(b))
+        hb = fb - fy  # 0 in an elastic state (b = y): round-off taken as 0
+        return float(force.dot(a)), (0.0 if abs(hb) <= 1e-12 * (abs(fb) + abs(fy)) else hb)
 
