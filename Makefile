@@ -131,7 +131,8 @@ docs-h2: setup
 # the default mesh, 0.1 % wider (under load control Newton stalls there), the structured and
 # the refined meshes, and triangles (24 and 100 increments); a run that stops (exit 3) leaves
 # its message in docs/summaries/h2_settlement_<name>.stopped.txt instead of a summary; the
-# load-controlled runs that stall (the wider mesh, triangles) their messages in h2_load_*
+# load-controlled runs that stall (the wider mesh, triangles) their messages in h2_load_*;
+# the default quadrilaterals and the triangles (100 increments) followed to rest
 docs-h2-settlement: setup
 	mkdir -p docs/summaries $(DOCS_RUN)
 	for run in "default" "W4.8048 --set width=4.8048" "structured --set structured=true" \
@@ -147,6 +148,13 @@ docs-h2-settlement: setup
 	    grep "stage incomplete" $(DOCS_RUN)/$$name.stderr > docs/summaries/$$name.stopped.txt; \
 	    elif [ $$rc -eq 0 ]; then cp $(DOCS_RUN)/$$name/summary.json docs/summaries/$$name.json; \
 	    else exit 1; fi; done
+	# followed to rest from the peak: the default quadrilaterals and the triangles
+	for run in "default_rest" "triangle_steps100_rest --set cells=triangle \
+	    --set continuum_steps=100"; do \
+	    set -- $$run; name=h2_settlement_$$1; shift; \
+	    $(PY) -m hybrid run cases/footing_failure.py --out $(DOCS_RUN)/$$name --overwrite \
+	    --set progress=false --set continuum_control=settlement "$$@" || exit 1; \
+	    cp $(DOCS_RUN)/$$name/summary.json docs/summaries/$$name.json; done
 	# the same meshes under load control where it stalls: the message kept
 	for run in "W4.8048 --set width=4.8048" "triangle --set cells=triangle"; do \
 	    set -- $$run; name=h2_load_$$1; shift; rm -f docs/summaries/$$name.stopped.txt; \
