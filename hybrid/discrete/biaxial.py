@@ -319,7 +319,7 @@ def contact_friction(phi_bulk: float, calibration: Calibration = CALIBRATION) ->
     """
     c, b = _curve(calibration)
     if np.any(np.diff(b) <= 0):
-        raise ValueError("CALIBRATION's bulk angles do not rise with the contact angle: "
+        raise ValueError("the calibration's bulk angles do not rise with the contact angle: "
                          "cannot invert it")
     if not b[0] <= phi_bulk <= b[-1]:
         raise ValueError(f"phi_bulk = {phi_bulk:g} deg is outside the calibrated bulk angles "
