@@ -434,8 +434,7 @@ class _PlasticWork:
     def dissipation(self, d_lam: float) -> float:
         """Delta D of the current iterate [kJ/m]."""
         assert self._start is not None
-        force, fy = self._start
-        return float(force.dot(self.solver.Du.vector)) - d_lam * fy
+        return self.work() - d_lam * self._start[1]
 
     def work(self) -> float:
         """F_n . Du of the current iterate [kJ/m]: the work of the force of the start."""
