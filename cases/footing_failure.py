@@ -22,7 +22,9 @@ Set-up
        below its largest value: that peak is the collapse load and the handover state; a
        path whose pressure never falls (Newton stalled, or the settlement ended first)
        stops the case. The continuum's steps, iterations and time count the increments past
-       the peak too.
+       the peak too. ``continuum_hold_flipping=true`` retries an increment whose Newton
+       iterates cycle holding its flipping points elastic (``NewtonOptions.hold_flipping``),
+       to tell a stall from the collapse.
     2. Handover at the last converged state: every cell becomes a Q4 (or T3) element;
        every bond may fail where its strength is exceeded (interface strength = the soil's
        c, phi, tension cut-off c cot phi) and no element is held (``region_layers`` and
@@ -81,7 +83,7 @@ from typing import Any
 
 import numpy as np
 
-from hybrid.continuum import DisplacementControl, PlasticSolver
+from hybrid.continuum import DisplacementControl, NewtonOptions, PlasticSolver
 from hybrid.continuum.series import ContinuumSeries
 from hybrid.discrete.energy import energy_excess, energy_peak_ratio, phase_history
 from hybrid.discrete.figures import plot_configuration
@@ -133,6 +135,9 @@ class Parameters(CaseParameters):
     #                           pressure's peak (the header)
     continuum_settlement: float = param(0.1, gt=0)  # (settlement) the largest mean
     #                           settlement followed [m]
+    continuum_hold_flipping: bool = False  # Newton's retry of a cycling increment, holding
+    #                           its flipping points elastic (NewtonOptions.hold_flipping): a
+    #                           diagnostic that tells a stall from the collapse
     control: str = param("pressure", choices=("pressure", "punch"))  # discrete loading (header)
     punch_speed: float = param(0.25, gt=0)  # speed of the pushed footing (control=punch) [m/s]
     punch_ramp_time: float = param(0.5, gt=0)  # (control=punch) the push's speed raised and
@@ -188,7 +193,8 @@ def main(out: str | Path = "results/footing_failure", **overrides) -> CaseSummar
                   loads=[Pressure("footing", 1.0)])
 
     # 1. continuum: gravity, then pressure until no equilibrium
-    solver = PlasticSolver(model, degree=2)
+    solver = PlasticSolver(model, degree=2,
+                           options=NewtonOptions(hold_flipping=p.continuum_hold_flipping))
     solver.apply_gravity(steps=2).require()
     solver.reset_displacement()
     footing_point = np.array([[0.0, 0.0]])
@@ -224,6 +230,7 @@ def main(out: str | Path = "results/footing_failure", **overrides) -> CaseSummar
     summary = CaseSummary("footing_failure (H2)", out, p, results={
         "continuum": {"cells": state.info["cells"], "steps": state.info["steps"],
                       "newton_iterations": state.info["newton_iterations"],
+                      "held_increments": state.info["held_increments"],
                       "wall_time_s": state.info["wall_time_s"],
                       "collapse_pressure_kPa": q_handover if collapsed else None,
                       "handover_pressure_kPa": q_handover,

@@ -10,7 +10,7 @@ import math
 import numpy as np
 import pytest
 
-from hybrid.continuum import PlasticSolver
+from hybrid.continuum import NewtonOptions, PlasticSolver
 from hybrid.geometry import GeometryError, build_mesh
 from hybrid.materials import Material, MaterialError
 from hybrid.model import Fixed, Model, Roller
@@ -115,3 +115,38 @@ def test_k0_initial_state_is_in_equilibrium(builder):
     sv = -gamma * (H - pts[:, 1])
     np.testing.assert_allclose(s[:, 1], sv, rtol=1e-9)
     np.testing.assert_allclose(s[:, 0], k0 * sv, rtol=1e-9)
+
+
+def test_increment_retried_holding_points_elastic_is_the_same_equilibrium(builder):
+    """The retry of a cycling increment (``PlasticSolver._newton_holding``) accepts only an
+    equilibrium of the material law itself: a footing increment solved by plain Newton, then
+    solved again from the same start with every point that yielded in it held elastic at
+    first, gives the same stress and plastic strain (to 1e-6 of the largest stress; perfectly
+    plastic soil, whose increment has one solution) after releasing the held points that must
+    yield."""
+    from hybrid.model import Pressure
+
+    mesh = build_mesh(builder("footing"), width=4.8, depth=3.0, half_footing=0.6, fine=0.15,
+                      coarse=0.6, cells="quadrilateral")
+    soil = Material(name="soil", E=1e5, nu=0.3, unit_weight=20.0, cohesion=69.0, phi=20.0)
+    model = Model(mesh, {"soil": soil}, supports=[Fixed("base"), Roller("symmetry", "x"),
+                                                  Roller("right", "x")],
+                  loads=[Pressure("footing", 1.0)])
+    solver = PlasticSolver(model, degree=2, options=NewtonOptions(hold_flipping=True))
+    solver.apply_gravity(steps=2).require()
+    solver.ramp(700.0, 7).require()
+    start = solver.snapshot()
+    assert solver.step(50.0, 0.0) is not None
+    plain = solver.stress.copy(), solver.plastic_strain.copy(), solver.yielded.copy()
+    assert plain[2].sum() > 0  # the increment yields somewhere
+    solver.restore(start)
+    # as if Newton had cycled on every point that yields in the increment
+    solver._flag_history = [np.zeros_like(plain[2]), plain[2]]
+    ok, _ = solver._newton_holding(lambda first: solver._newton(50.0, 0.0, first), None,
+                                   solver.Du.x.array.copy)
+    assert ok
+    stress, _, pstrain, yielded = solver._trial
+    scale = np.abs(plain[0]).max()
+    np.testing.assert_allclose(stress, plain[0], rtol=0, atol=1e-6 * scale)
+    np.testing.assert_allclose(pstrain, plain[1], rtol=0, atol=1e-9)
+    np.testing.assert_array_equal(yielded, plain[2])

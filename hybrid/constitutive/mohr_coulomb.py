@@ -83,6 +83,7 @@ __all__ = [
     "mohr_coulomb_point",
     "equivalent_plastic_strain",
     "mohr_coulomb_update",
+    "elastic_update",
     "return_principal",
     "update_stress",
     "yield_function",
@@ -92,6 +93,22 @@ __all__ = [
 
 #: Fraction of the elastic matrix added to the tangent at a vertex (apex) return.
 VERTEX_STABILISATION = 1.0e-5
+
+@numba.njit(cache=True)
+def elastic_tangent(lam, G, out_tangent):
+    """The isotropic elastic matrix into ``out_tangent[0:4, 0:4]`` (kPa).
+
+    Lame's ``lam`` and ``G``; Voigt (xx, yy, zz, xy) with engineering shear.
+    """
+    for i in range(4):
+        for j in range(4):
+            out_tangent[i, j] = 0.0
+    for i in range(3):
+        for j in range(3):
+            out_tangent[i, j] = lam
+        out_tangent[i, i] += 2.0 * G
+    out_tangent[3, 3] = G
+
 
 @numba.njit(cache=True)
 def mohr_coulomb_point(
@@ -157,14 +174,7 @@ def mohr_coulomb_point(
         out_stress[2] = tzz
         out_stress[3] = txy
         if want_tangent:
-            for i in range(4):
-                for j in range(4):
-                    out_tangent[i, j] = 0.0
-            for i in range(3):
-                for j in range(3):
-                    out_tangent[i, j] = lam
-                out_tangent[i, i] += 2.0 * G
-            out_tangent[3, 3] = G
+            elastic_tangent(lam, G, out_tangent)
         return 0.0, 0
     ret = (r1, r2, r3)
     ra = ret[ia]
@@ -272,6 +282,28 @@ def mohr_coulomb_update(
         )
         plastic_strain[q] += deq
         yielded[q] = flag
+
+
+@numba.njit(cache=True)
+def elastic_update(stress_old, strain_increment, material_of_point, material_table, points,
+                   stress_new, tangent):
+    """The elastic predictor of ``mohr_coulomb_point`` at the listed ``points`` only.
+
+    Overwrites ``stress_new[q]`` with sigma_old + D : d_eps and ``tangent[q]`` with D for q in
+    ``points`` (int array); the arrays as in :func:`mohr_coulomb_update`. A solver holds
+    points on the elastic branch with it (:class:`hybrid.continuum.plastic.PlasticSolver`).
+    """
+    for k in range(points.shape[0]):
+        q = points[k]
+        m = material_of_point[q]
+        K = material_table[m, 0]
+        G = material_table[m, 1]
+        lam = K - 2.0 * G / 3.0
+        tr = lam * (strain_increment[q, 0] + strain_increment[q, 1] + strain_increment[q, 2])
+        for i in range(3):
+            stress_new[q, i] = stress_old[q, i] + tr + 2.0 * G * strain_increment[q, i]
+        stress_new[q, 3] = stress_old[q, 3] + G * strain_increment[q, 3]
+        elastic_tangent(lam, G, tangent[q])
 
 
 def _check_table(table: np.ndarray) -> None:

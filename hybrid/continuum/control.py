@@ -206,6 +206,7 @@ class ControlledPath:
                 s.Du.x.scatter_forward()
                 s._lam.value = lam0 + d_lam
         s._update_stress()
+        s._flag_history = [s._trial[3].copy()]
         norm = s._residual()
         gap = self._gap(du, d_lam, ds)
         residuals: list[float] = []
@@ -239,6 +240,7 @@ class ControlledPath:
                 dd_lam = (ha - gap) / hb
                 move = self._joint(du.copy(), -a + dd_lam * b, lam0, d_lam, dd_lam)
                 norm = s._line_search(move, norm)
+                s._flag_history.append(s._trial[3].copy())
                 d_lam = self._d_lam
                 gap = self._gap(du, d_lam, ds)
                 s.iterations_total += 1
@@ -322,7 +324,19 @@ class ControlledPath:
             if recent is not None:
                 guess, fit = recent, True
         ok, residuals, d_lam = self._newton(ds, guess, fit)
+        retried = s._may_hold(ok, residuals)  # NewtonOptions.hold_flipping
+        if retried:
+            def solve(first: tuple[np.ndarray, float] | None) -> tuple[bool, list[float]]:
+                nonlocal d_lam
+                done, history, d_lam = self._newton(ds, first, fit and first is guess)
+                return done, history
+
+            ok, held = s._newton_holding(solve, guess,
+                                         lambda: (s.Du.x.array.copy(), d_lam))
+            residuals += held
+            s._hold_failed = not ok
         ok = ok and s._small_strain()
+        s.held_increments += retried and ok
         s.wall_time += time.perf_counter() - start
         if not ok:
             s._lam.value = s.load_factor

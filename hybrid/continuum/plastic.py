@@ -18,6 +18,15 @@ Globalisation, for non-associated flow (psi < phi) where plain Newton stalls:
     half the smallest cell edge) is rejected like one that does not converge: beyond that the
     small-strain solution no longer describes the geometry, and at a collapse the amplitude
     of the mechanism is indeterminate (Newton may return any of them);
+  * with ``hold_flipping`` (off by default), an increment whose Newton solve runs out of
+    iterations with points flipping between the elastic and the plastic response is
+    retried, holding those points on the elastic branch and releasing the ones that must
+    yield (an active-set choice, :meth:`PlasticSolver._newton_holding`); it is accepted
+    only as an equilibrium of the unchanged material law. After a retry that fails, the
+    increments are halved without one until an increment converges. It tells a Newton
+    stall from a limit; it is not the default because it changes the path, and a load
+    ramp's collapse test (the displacement running away over the last increment) can then
+    fail at the same collapse load;
   * adaptive increments (:class:`IncrementControl`): an increment that does not converge is
     restarted from the last converged state with half its size, down to ``min_increment``
     times the requested one; after each converged increment the size grows by ``growth``
@@ -45,7 +54,7 @@ from dolfinx.fem import petsc as fem_petsc
 from mpi4py import MPI
 from petsc4py import PETSc
 
-from hybrid.constitutive.mohr_coulomb import mohr_coulomb_update
+from hybrid.constitutive.mohr_coulomb import elastic_update, mohr_coulomb_update
 from hybrid.constitutive.softening import characteristic_length, warn_snap_back
 from hybrid.constitutive.table import kernel_table
 from hybrid.continuum.analysis import Analysis, largest_nodal_norm
@@ -75,6 +84,12 @@ __all__ = ["IncrementControl", "NewtonOptions", "PlasticSolver", "StepRecord", "
 
 log = logging.getLogger(__name__)
 
+# a Newton solve that runs out of iterations is examined over its last FLIP_WINDOW iterates
+# for points whose response flips between elastic and plastic, and retried holding them on
+# the elastic branch, in at most HOLD_ROUNDS rounds (PlasticSolver._newton_holding)
+FLIP_WINDOW = 6
+HOLD_ROUNDS = 10
+
 
 def material_table(materials: Sequence[Material], strength_factor: float = 1.0) -> np.ndarray:
     """Rows [K, G, c, sin phi, cos phi, sin psi, t] of the kernel, strength divided by F."""
@@ -98,6 +113,10 @@ class NewtonOptions:
         growth: factor on the increment after a converged one (1: no regrowth).
         max_displacement: largest nodal displacement of one increment [m] (None: half the
             smallest cell edge of the mesh).
+        hold_flipping: retry an increment whose Newton iterates cycle, holding the points
+            that flip between the elastic and the plastic response on the elastic branch
+            (:meth:`PlasticSolver._newton_holding`; an expert diagnostic that tells a Newton
+            stall from a limit, off by default: module docstring).
     """
 
     tolerance: float = 1e-8
@@ -109,6 +128,7 @@ class NewtonOptions:
     max_increment: float | None = None
     growth: float = 1.5
     max_displacement: float | None = None
+    hold_flipping: bool = False
 
     def __post_init__(self) -> None:
         if not 0 < self.tolerance < 1:
@@ -250,6 +270,14 @@ class PlasticSolver:
         self._last_increment: tuple[np.ndarray, str, float] | None = None
         # see :meth:`follow`
         self._paths: dict[DisplacementControl | DissipationControl, ControlledPath] = {}
+        # points held on the elastic branch (indices; None: none), the yield flags of the
+        # iterates of the last Newton solve, whether a retry holding points failed since the
+        # last converged increment, and the increments converged by such a retry
+        # (:meth:`_newton_holding`)
+        self._held: np.ndarray | None = None
+        self._flag_history: list[np.ndarray] = []
+        self._hold_failed = False
+        self.held_increments = 0
 
     # --- constitutive update -------------------------------------------------------------
     def _update_stress(self) -> None:
@@ -259,6 +287,12 @@ class PlasticSolver:
         pstrain[:] = self.plastic_strain
         mohr_coulomb_update(self.stress, deps, self.point_material, self.table,
                             self.point_length, stress, tangent, pstrain, yielded, True)
+        if self._held is not None:
+            held = self._held
+            elastic_update(self.stress, deps, self.point_material, self.table, held, stress,
+                           tangent)
+            pstrain[held] = self.plastic_strain[held]
+            yielded[held] = 0
         if not self.active.all():  # fill not yet placed carries nothing and never yields
             off = np.repeat(~self.active, self.disc.num_points)
             stress[off] = 0.0
@@ -307,8 +341,9 @@ class PlasticSolver:
         self._bcs_hom = bcs
         residuals: list[float] = []
         self._update_stress()
+        self._flag_history = [self._trial[3].copy()]
         norm = self._residual()
-        scale = max(self._internal_norm(), float(np.abs(self._lam.value)) + 1.0, 1.0)
+        scale = self._scale()
         for _ in range(opts.max_iterations):
             residuals.append(norm)
             if not np.isfinite(norm):
@@ -328,9 +363,88 @@ class PlasticSolver:
             self.delta.x.scatter_forward()
             norm = self._line_search(self._along(self.Du.x.array.copy(), -self.delta.x.array),
                                      norm)
+            self._flag_history.append(self._trial[3].copy())
             self.iterations_total += 1
         residuals.append(norm)
         return norm <= opts.tolerance * scale, residuals
+
+    def _scale(self) -> float:
+        """The residual norm's reference: max(||f_int||, |lambda| + 1, 1) (module docstring)."""
+        return max(self._internal_norm(), float(np.abs(self._lam.value)) + 1.0, 1.0)
+
+    def _flipping(self) -> np.ndarray:
+        """The points whose yield flag changed over the last ``FLIP_WINDOW`` iterates."""
+        flags = np.array(self._flag_history[-FLIP_WINDOW:])
+        return np.flatnonzero((flags != flags[-1]).any(axis=0))
+
+    def _newton_holding(self, solve: Callable[[Any], tuple[bool, list[float]]], start: Any,
+                        current: Callable[[], Any]) -> tuple[bool, list[float]]:
+        """Retry of an increment whose Newton iterates cycled: a choice of the active set.
+
+        Near a limit (and with softening or non-associated flow) a few points can flip between
+        the elastic and the plastic response from one iterate to the next, and the residual
+        repeats a cycle far above the tolerance. The points that flipped over the failed
+        solve's last ``FLIP_WINDOW`` iterates are held on the elastic branch (stress
+        sigma_n + D : d_eps, tangent D), which makes the equations smooth there, and Newton
+        is solved again from the same start. At its solution the unchanged response is
+        evaluated: where a held point's elastic stress lies inside its yield surface the two
+        agree, and the increment is accepted only if the residual of the unchanged response
+        meets the tolerance (an equilibrium of the material law itself, not an
+        approximation of it). Held points at which the unchanged response yields are
+        released and the increment solved again from there (with none left held, by plain
+        Newton); when a held solve cycles on other points they are held too; at most
+        ``HOLD_ROUNDS`` solves (a primal-dual active-set strategy, as Hintermueller, Ito &
+        Kunisch 2002 analyse for contact-like problems).
+
+        ``solve(guess)`` solves the increment from the first iterate ``guess`` with the points
+        in ``self._held`` held and returns (converged, residual norms); ``start`` is the
+        failed solve's first iterate, ``current()`` the converged iterate as a first one.
+        Returns (converged, residual norms).
+        """
+        held = self._flipping()
+        residuals: list[float] = []
+        tolerance, guess = self.options.tolerance, start
+        try:
+            if held.size == 0:
+                return False, residuals
+            for _ in range(HOLD_ROUNDS):
+                self._held = held
+                ok, attempt = solve(guess)
+                residuals += attempt
+                if ok and held.size == 0:  # with none held, Newton solved the law itself
+                    return True, residuals
+                if not ok:  # points beside the held ones cycle now: hold them too
+                    more = np.union1d(held, self._flipping())
+                    if not self._cycled(attempt) or more.size == held.size:
+                        return False, residuals
+                    held = more
+                    continue
+                guess = current()
+                self._held = None
+                self._update_stress()
+                norm = self._residual()
+                residuals.append(norm)
+                if norm <= tolerance * self._scale():
+                    return True, residuals
+                held = held[self._trial[3][held] == 0]  # release those that yield
+            return False, residuals
+        finally:
+            self._held = None
+
+    def _may_hold(self, ok: bool, residuals: list[float]) -> bool:
+        """Whether to retry a failed solve holding its flipping points.
+
+        With ``hold_flipping``, when the solve cycled and no retry failed since the last
+        converged increment.
+        """
+        return (self.options.hold_flipping and not ok and not self._hold_failed
+                and self._cycled(residuals))
+
+    def _cycled(self, residuals: list[float]) -> bool:
+        """Whether a failed solve ran all its iterations with finite residuals (not diverged)."""
+        return (len(residuals) == self.options.max_iterations + 1
+                and bool(np.all(np.isfinite(residuals)))
+                and residuals[-1] <= self.options.divergence * max(residuals[:2]))
 
     def _small_strain(self) -> bool:
         """Whether the increment moved no node more than ``max_displacement`` (collective).
@@ -375,6 +489,7 @@ class PlasticSolver:
                                 else (self.Du.x.array.copy(), kind, size))
         self.load_factor += d_lambda
         self.gravity_factor += d_gravity
+        self._hold_failed = False
         record = StepRecord(self.load_factor, iterations, residuals,
                             {k: f() for k, f in self.monitors.items()}, self.strength_factor)
         self.history.append(record)
@@ -406,7 +521,14 @@ class PlasticSolver:
         guess = (prev[0] * (size / prev[2]) if prev is not None and kind == prev[1]
                  else None)
         ok, residuals = self._newton(d_lambda, d_gravity, guess)
+        retried = self._may_hold(ok, residuals)
+        if retried:
+            ok, held = self._newton_holding(lambda first: self._newton(d_lambda, d_gravity, first),
+                                            guess, self.Du.x.array.copy)
+            residuals += held
+            self._hold_failed = not ok
         ok = ok and self._small_strain()
+        self.held_increments += retried and ok
         self.wall_time += time.perf_counter() - start
         if not ok:
             self._lam.value = self.load_factor
@@ -622,6 +744,7 @@ class PlasticSolver:
         if float(snap[4][2]) != self.strength_factor:
             self.set_strength_factor(float(snap[4][2]))
         self._last_increment = None
+        self._hold_failed = False
         self.sspace.assign(self.stress_q, self.stress)
 
     # --- outputs ---------------------------------------------------------------------------
@@ -651,6 +774,7 @@ class PlasticSolver:
                 "cells": self.model.mesh.mesh.topology.index_map(2).size_global,
                 "dofs": self.disc.V.dofmap.index_map.size_global * 2,
                 "steps": len(self.history), "newton_iterations": self.iterations_total,
+                "held_increments": self.held_increments,
                 "wall_time_s": self.wall_time, "load_factor": self.load_factor,
                 "gravity_factor": self.gravity_factor, "strength_factor": self.strength_factor}
         return ContinuumState(self.model, self.disc, u, self.stress.reshape(n, nqp, 4).copy(),
