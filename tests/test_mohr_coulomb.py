@@ -552,3 +552,29 @@ def test_update_stress_input_errors():
             material_of_point=[0, 0],
             material_table=np.zeros((1, 6)),
         )
+
+
+def test_elastic_update_is_the_kernel_where_it_answers_elastically():
+    """``elastic_update`` (a solver's points held elastic) writes at the listed points exactly
+    what ``mohr_coulomb_update`` writes where its response is elastic, stress and tangent, and
+    leaves the other points alone."""
+    from hybrid.constitutive.mohr_coulomb import elastic_update
+
+    rng = np.random.default_rng(3)
+    n = 400
+    table = _row(_material(E, NU, C, 30.0)).reshape(1, -1)
+    p = -rng.uniform(5.0, 50.0, n)  # compressive mean stress [kPa], small deviators
+    old = np.column_stack([p, p, p, np.zeros(n)]) + rng.uniform(-2.0, 2.0, (n, 4))
+    deps = rng.uniform(-1e-3, 1e-3, (n, 4))
+    mat, length = np.zeros(n, dtype=np.int64), np.ones(n)
+    stress, tangent = np.empty((n, 4)), np.empty((n, 4, 4))
+    kappa, yielded = np.zeros(n), np.zeros(n, dtype=np.int8)
+    mohr_coulomb_update(old, deps, mat, table, length, stress, tangent, kappa, yielded, True)
+    elastic = np.flatnonzero(yielded == 0)
+    assert 0 < elastic.size < n  # both responses among the points
+    held_stress, held_tangent = np.full((n, 4), np.nan), np.full((n, 4, 4), np.nan)
+    elastic_update(old, deps, mat, table, elastic, held_stress, held_tangent)
+    np.testing.assert_array_equal(held_stress[elastic], stress[elastic])
+    np.testing.assert_array_equal(held_tangent[elastic], tangent[elastic])
+    others = np.setdiff1d(np.arange(n), elastic)
+    assert np.isnan(held_stress[others]).all() and np.isnan(held_tangent[others]).all()

@@ -84,6 +84,7 @@ __all__ = [
     "equivalent_plastic_strain",
     "mohr_coulomb_update",
     "elastic_update",
+    "elastic_tangent",
     "return_principal",
     "update_stress",
     "yield_function",

@@ -210,7 +210,7 @@ class ControlledPath:
         norm = s._residual()
         gap = self._gap(du, d_lam, ds)
         residuals: list[float] = []
-        scale = max(s._internal_norm(), abs(float(s._lam.value)) + 1.0, 1.0)
+        scale = s._solve_scale = s._scale()
         try:
             for _ in range(opts.max_iterations):
                 residuals.append(norm)
@@ -323,20 +323,18 @@ class ControlledPath:
             recent = self._recent()
             if recent is not None:
                 guess, fit = recent, True
+        iterations = s.iterations_total
         ok, residuals, d_lam = self._newton(ds, guess, fit)
-        retried = s._may_hold(ok, residuals)  # NewtonOptions.hold_flipping
-        if retried:
-            def solve(first: tuple[np.ndarray, float] | None) -> tuple[bool, list[float]]:
-                nonlocal d_lam
-                done, history, d_lam = self._newton(ds, first, fit and first is guess)
-                return done, history
 
-            ok, held = s._newton_holding(solve, guess,
+        def solve(first: tuple[np.ndarray, float] | None) -> tuple[bool, list[float]]:
+            nonlocal d_lam
+            done, history, d_lam = self._newton(ds, first, fit and first is guess)
+            return done, history
+
+        # NewtonOptions.hold_flipping
+        ok, residuals = s._retry_holding(ok, residuals, solve, guess,
                                          lambda: (s.Du.x.array.copy(), d_lam))
-            residuals += held
-            s._hold_failed = not ok
         ok = ok and s._small_strain()
-        s.held_increments += retried and ok
         s.wall_time += time.perf_counter() - start
         if not ok:
             s._lam.value = s.load_factor
@@ -348,7 +346,7 @@ class ControlledPath:
         self._converged = (self._last[0], d_lam)
         if self._work is not None:
             self._dissipated += ds
-        record = s._commit(None, 0.0, len(residuals) - 1, residuals, d_lam, 0.0)
+        record = s._commit(None, 0.0, s.iterations_total - iterations, residuals, d_lam, 0.0)
         self._last_count = len(s.history)
         return record
 

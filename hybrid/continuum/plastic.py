@@ -278,6 +278,7 @@ class PlasticSolver:
         self._flag_history: list[np.ndarray] = []
         self._hold_failed = False
         self.held_increments = 0
+        self._solve_scale = 1.0  # the residual reference of the last Newton solve
 
     # --- constitutive update -------------------------------------------------------------
     def _update_stress(self) -> None:
@@ -343,7 +344,7 @@ class PlasticSolver:
         self._update_stress()
         self._flag_history = [self._trial[3].copy()]
         norm = self._residual()
-        scale = self._scale()
+        scale = self._solve_scale = self._scale()
         for _ in range(opts.max_iterations):
             residuals.append(norm)
             if not np.isfinite(norm):
@@ -394,51 +395,70 @@ class PlasticSolver:
         released and the increment solved again from there (with none left held, by plain
         Newton); when a held solve cycles on other points they are held too; at most
         ``HOLD_ROUNDS`` solves (a primal-dual active-set strategy, as Hintermueller, Ito &
-        Kunisch 2002 analyse for contact-like problems).
+        Kunisch, SIAM J. Optim. 13 (2002) 865-888, analyse for contact-like problems; this
+        is a heuristic in its spirit, without its convergence theory).
 
         ``solve(guess)`` solves the increment from the first iterate ``guess`` with the points
         in ``self._held`` held and returns (converged, residual norms); ``start`` is the
         failed solve's first iterate, ``current()`` the converged iterate as a first one.
         Returns (converged, residual norms).
         """
+        comm = self.disc.V.mesh.comm
+
+        def count(points: np.ndarray) -> int:  # over all ranks: every branch is collective
+            return int(comm.allreduce(points.size, op=MPI.SUM))
+
         held = self._flipping()
         residuals: list[float] = []
-        tolerance, guess = self.options.tolerance, start
+        guess = start
         try:
-            if held.size == 0:
+            if count(held) == 0:
                 return False, residuals
             for _ in range(HOLD_ROUNDS):
                 self._held = held
                 ok, attempt = solve(guess)
                 residuals += attempt
-                if ok and held.size == 0:  # with none held, Newton solved the law itself
+                if ok and count(held) == 0:  # with none held, Newton solved the law itself
                     return True, residuals
                 if not ok:  # points beside the held ones cycle now: hold them too
                     more = np.union1d(held, self._flipping())
-                    if not self._cycled(attempt) or more.size == held.size:
+                    if not self._cycled(attempt) or count(more) == count(held):
                         return False, residuals
                     held = more
                     continue
-                guess = current()
+                guess, scale = current(), self._solve_scale
                 self._held = None
                 self._update_stress()
                 norm = self._residual()
                 residuals.append(norm)
-                if norm <= tolerance * self._scale():
+                if norm <= self.options.tolerance * scale:
                     return True, residuals
-                held = held[self._trial[3][held] == 0]  # release those that yield
+                keep = held[self._trial[3][held] == 0]  # release those that yield
+                if count(keep) == count(held):  # none to release: no other choice to try
+                    return False, residuals
+                held = keep
             return False, residuals
         finally:
             self._held = None
 
-    def _may_hold(self, ok: bool, residuals: list[float]) -> bool:
-        """Whether to retry a failed solve holding its flipping points.
+    def _retry_holding(self, ok: bool, residuals: list[float],
+                       solve: Callable[[Any], tuple[bool, list[float]]], start: Any,
+                       current: Callable[[], Any]) -> tuple[bool, list[float]]:
+        """A failed solve's retry holding its flipping points (``hold_flipping``).
 
-        With ``hold_flipping``, when the solve cycled and no retry failed since the last
-        converged increment.
+        Retried when the solve cycled and no retry failed since the last converged increment
+        (:meth:`_newton_holding`'s arguments); returns (converged, all residual norms). Keeps
+        the bookkeeping: a retry that ran and failed blocks the next until an increment
+        converges; ``held_increments`` counts the retries that converged.
         """
-        return (self.options.hold_flipping and not ok and not self._hold_failed
-                and self._cycled(residuals))
+        if not (self.options.hold_flipping and not ok and not self._hold_failed
+                and self._cycled(residuals)):
+            return ok, residuals
+        ok, extra = self._newton_holding(solve, start, current)
+        if extra:  # a held solve ran
+            self._hold_failed = not ok
+            self.held_increments += int(ok)
+        return ok, residuals + extra
 
     def _cycled(self, residuals: list[float]) -> bool:
         """Whether a failed solve ran all its iterations with finite residuals (not diverged)."""
@@ -520,15 +540,12 @@ class PlasticSolver:
         prev = self._last_increment
         guess = (prev[0] * (size / prev[2]) if prev is not None and kind == prev[1]
                  else None)
+        iterations = self.iterations_total
         ok, residuals = self._newton(d_lambda, d_gravity, guess)
-        retried = self._may_hold(ok, residuals)
-        if retried:
-            ok, held = self._newton_holding(lambda first: self._newton(d_lambda, d_gravity, first),
-                                            guess, self.Du.x.array.copy)
-            residuals += held
-            self._hold_failed = not ok
+        ok, residuals = self._retry_holding(
+            ok, residuals, lambda first: self._newton(d_lambda, d_gravity, first), guess,
+            self.Du.x.array.copy)
         ok = ok and self._small_strain()
-        self.held_increments += retried and ok
         self.wall_time += time.perf_counter() - start
         if not ok:
             self._lam.value = self.load_factor
@@ -537,7 +554,8 @@ class PlasticSolver:
                 self.set_strength_factor(old_factor)
             self.sspace.assign(self.stress_q, self.stress)
             return None
-        return self._commit(kind, size, len(residuals) - 1, residuals, d_lambda, d_gravity)
+        return self._commit(kind, size, self.iterations_total - iterations, residuals, d_lambda,
+                            d_gravity)
 
     def ramp(self, target: float, steps: int, *, gravity: bool = False,
              stop: Callable[[PlasticSolver], bool] | None = None,
