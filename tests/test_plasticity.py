@@ -159,3 +159,61 @@ def test_increment_retried_holding_points_elastic_is_the_same_equilibrium(builde
     np.testing.assert_allclose(stress, plain[0], rtol=0, atol=1e-6 * scale)
     np.testing.assert_allclose(pstrain, plain[1], rtol=0, atol=1e-9)
     np.testing.assert_array_equal(yielded, plain[2])
+
+
+def test_a_cycling_increment_is_retried_through_step(builder):
+    """``step`` with ``hold_flipping``: an increment whose first Newton solve cycles (made to,
+    here, on the points that yield in it) is retried holding them, converges to the plain
+    solution and is counted in ``held_increments``; a retry that fails blocks the next one
+    until an increment converges, and without the option no retry is made."""
+    from hybrid.model import Pressure
+
+    mesh = build_mesh(builder("footing"), width=4.8, depth=3.0, half_footing=0.6, fine=0.15,
+                      coarse=0.6, cells="quadrilateral")
+    soil = Material(name="soil", E=1e5, nu=0.3, unit_weight=20.0, cohesion=69.0, phi=20.0)
+    model = Model(mesh, {"soil": soil}, supports=[Fixed("base"), Roller("symmetry", "x"),
+                                                  Roller("right", "x")],
+                  loads=[Pressure("footing", 1.0)])
+    solver = PlasticSolver(model, degree=2, options=NewtonOptions(hold_flipping=True))
+    solver.apply_gravity(steps=2).require()
+    solver.ramp(700.0, 7).require()
+    start = solver.snapshot()
+    assert solver.step(50.0, 0.0) is not None
+    plain_stress, flips = solver.stress.copy(), solver.yielded.copy()
+    solver.restore(start)
+    real = solver._newton
+    calls: list[bool] = []
+
+    def cycling_once(d_lambda, d_gravity, guess):  # the first solve "cycles" on ``flips``
+        calls.append(solver._held is not None)
+        if len(calls) > 1:
+            return real(d_lambda, d_gravity, guess)
+        solver._flag_history = [np.zeros_like(flips), flips]
+        return False, [1.0] * (solver.options.max_iterations + 1)
+
+    solver._newton = cycling_once
+    assert solver.step(50.0, 0.0) is not None
+    assert calls[0] is False and calls[1] is True  # the plain solve, then a held one
+    assert solver.held_increments == 1 and not solver._hold_failed
+    scale = np.abs(plain_stress).max()
+    np.testing.assert_allclose(solver.stress, plain_stress, rtol=0, atol=1e-6 * scale)
+
+    # a retry that fails blocks the next one; a converged increment lifts the block
+    solver.restore(start)
+
+    def cycling_always(d_lambda, d_gravity, guess):
+        calls.append(solver._held is not None)
+        solver._flag_history = [np.zeros_like(flips), flips]
+        return False, [1.0] * (solver.options.max_iterations + 1)
+
+    solver._newton = cycling_always
+    calls.clear()
+    assert solver.step(50.0, 0.0) is None and solver._hold_failed and any(calls[1:])
+    calls.clear()
+    assert solver.step(25.0, 0.0) is None and calls == [False]  # no retry while blocked
+    solver._newton = real
+    assert solver.step(25.0, 0.0) is not None and not solver._hold_failed
+    solver.options = NewtonOptions()  # without the option: the plain solve only
+    solver._newton = cycling_always
+    calls.clear()
+    assert solver.step(25.0, 0.0) is None and calls == [False]
