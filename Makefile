@@ -133,21 +133,36 @@ docs-h2: setup
 # its message in docs/summaries/h2_settlement_<name>.stopped.txt instead of a summary; the
 # load-controlled runs that stall (the wider mesh, triangles) their messages in h2_load_*;
 # the default quadrilaterals and the triangles (100 increments) followed to rest
-docs-h2-settlement: setup
-	mkdir -p docs/summaries $(DOCS_RUN)
-	for run in "default" "W4.8048 --set width=4.8048" "structured --set structured=true" \
-	    "fine0.04 --set fine=0.04" "structured_fine0.04 --set structured=true --set fine=0.04" \
-	    "triangle --set cells=triangle" \
-	    "triangle_steps100 --set cells=triangle --set continuum_steps=100"; do \
-	    set -- $$run; name=h2_settlement_$$1; shift; \
+# H2 continuum-only runs: $(1) the summaries' prefix, $(2) the options of every run, $(3) the
+# runs ("name --set ..."); a run that stops (exit 3) leaves its message in
+# docs/summaries/<prefix>_<name>.stopped.txt instead of a summary
+define h2_continuum_runs
+	for run in $(3); do \
+	    set -- $$run; name=$(1)_$$1; shift; \
 	    rm -f docs/summaries/$$name.json docs/summaries/$$name.stopped.txt; \
 	    $(PY) -m hybrid run cases/footing_failure.py --out $(DOCS_RUN)/$$name --overwrite \
-	    --set progress=false --set discrete=false --set continuum_control=settlement "$$@" \
+	    --set progress=false --set discrete=false $(2) "$$@" \
 	    2> $(DOCS_RUN)/$$name.stderr; rc=$$?; cat $(DOCS_RUN)/$$name.stderr >&2; \
 	    if [ $$rc -eq 3 ]; then \
 	    grep "stage incomplete" $(DOCS_RUN)/$$name.stderr > docs/summaries/$$name.stopped.txt; \
 	    elif [ $$rc -eq 0 ]; then cp $(DOCS_RUN)/$$name/summary.json docs/summaries/$$name.json; \
 	    else exit 1; fi; done
+endef
+H2_SETTLEMENT_RUNS := "default" "W4.8048 --set width=4.8048" "structured --set structured=true" \
+	"fine0.04 --set fine=0.04" "structured_fine0.04 --set structured=true --set fine=0.04" \
+	"triangle --set cells=triangle" \
+	"triangle_steps100 --set cells=triangle --set continuum_steps=100"
+H2_HOLD_RUNS := "default" "W4.8048 --set width=4.8048" "fine0.04 --set fine=0.04" \
+	"structured_fine0.04 --set structured=true --set fine=0.04 --set continuum_steps=48" \
+	"triangle --set cells=triangle" \
+	"settlement_structured --set continuum_control=settlement --set structured=true" \
+	"settlement_triangle_steps100 --set continuum_control=settlement --set cells=triangle \
+	--set continuum_steps=100"
+
+docs-h2-settlement: setup
+	mkdir -p docs/summaries $(DOCS_RUN)
+	$(call h2_continuum_runs,h2_settlement,--set continuum_control=settlement,\
+	    $(H2_SETTLEMENT_RUNS))
 	# followed to rest from the peak: the default quadrilaterals and the triangles
 	for run in "default_rest" "triangle_steps100_rest --set cells=triangle \
 	    --set continuum_steps=100"; do \
@@ -157,23 +172,8 @@ docs-h2-settlement: setup
 	    cp $(DOCS_RUN)/$$name/summary.json docs/summaries/$$name.json; done
 	# Newton's retry of cycling increments (continuum_hold_flipping, continuum only): the
 	# default mesh, the meshes where the load ramp stalls or stops short, the refined one and
-	# two settlement-controlled paths; a run that stops leaves its message in
-	# docs/summaries/h2_hold_<name>.stopped.txt
-	for run in "default" "W4.8048 --set width=4.8048" "fine0.04 --set fine=0.04" \
-	    "structured_fine0.04 --set structured=true --set fine=0.04 --set continuum_steps=48" \
-	    "triangle --set cells=triangle" \
-	    "settlement_structured --set continuum_control=settlement --set structured=true" \
-	    "settlement_triangle_steps100 --set continuum_control=settlement --set cells=triangle \
-	    --set continuum_steps=100"; do \
-	    set -- $$run; name=h2_hold_$$1; shift; \
-	    rm -f docs/summaries/$$name.json docs/summaries/$$name.stopped.txt; \
-	    $(PY) -m hybrid run cases/footing_failure.py --out $(DOCS_RUN)/$$name --overwrite \
-	    --set progress=false --set discrete=false --set continuum_hold_flipping=true "$$@" \
-	    2> $(DOCS_RUN)/$$name.stderr; rc=$$?; cat $(DOCS_RUN)/$$name.stderr >&2; \
-	    if [ $$rc -eq 3 ]; then \
-	    grep "stage incomplete" $(DOCS_RUN)/$$name.stderr > docs/summaries/$$name.stopped.txt; \
-	    elif [ $$rc -eq 0 ]; then cp $(DOCS_RUN)/$$name/summary.json docs/summaries/$$name.json; \
-	    else exit 1; fi; done
+	# two settlement-controlled paths
+	$(call h2_continuum_runs,h2_hold,--set continuum_hold_flipping=true,$(H2_HOLD_RUNS))
 	# the same meshes under load control where it stalls: the message kept
 	for run in "W4.8048 --set width=4.8048" "triangle --set cells=triangle"; do \
 	    set -- $$run; name=h2_load_$$1; shift; rm -f docs/summaries/$$name.stopped.txt; \

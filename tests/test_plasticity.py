@@ -117,15 +117,9 @@ def test_k0_initial_state_is_in_equilibrium(builder):
     np.testing.assert_allclose(s[:, 0], k0 * sv, rtol=1e-9)
 
 
-@pytest.mark.parametrize("seed", ["yielded", "all"])
-def test_increment_retried_holding_points_elastic_is_the_same_equilibrium(builder, seed):
-    """The retry of a cycling increment (``PlasticSolver._newton_holding``) accepts only an
-    equilibrium of the material law itself: a footing increment solved by plain Newton, then
-    solved again from the same start as if Newton had cycled on every point that yields in it
-    ("yielded": they are released one round after another until plain Newton finishes) or
-    on every point ("all": accepted with most points still held, where the law answers
-    elastically), gives the same stress and plastic strain (to 1e-6 of the largest stress;
-    perfectly plastic soil, whose increment has one solution) and the same yielding points."""
+def _footing_increment(builder):
+    """A perfectly plastic footing (c = 69 kPa, phi = 20 deg) loaded to 700 kPa, retry on, and
+    one increment of 50 kPa solved by plain Newton: (solver after it, its start snapshot)."""
     from hybrid.model import Pressure
 
     mesh = build_mesh(builder("footing"), width=4.8, depth=3.0, half_footing=0.6, fine=0.15,
@@ -139,6 +133,19 @@ def test_increment_retried_holding_points_elastic_is_the_same_equilibrium(builde
     solver.ramp(700.0, 7).require()
     start = solver.snapshot()
     assert solver.step(50.0, 0.0) is not None
+    return solver, start
+
+
+@pytest.mark.parametrize("seed", ["yielded", "all"])
+def test_increment_retried_holding_points_elastic_is_the_same_equilibrium(builder, seed):
+    """The retry of a cycling increment (``PlasticSolver._newton_holding``) accepts only an
+    equilibrium of the material law itself: a footing increment solved by plain Newton, then
+    solved again from the same start as if Newton had cycled on every point that yields in it
+    ("yielded": they are released one round after another until plain Newton finishes) or
+    on every point ("all": accepted with most points still held, where the law answers
+    elastically), gives the same stress and plastic strain (to 1e-6 of the largest stress;
+    perfectly plastic soil, whose increment has one solution) and the same yielding points."""
+    solver, start = _footing_increment(builder)
     plain = solver.stress.copy(), solver.plastic_strain.copy(), solver.yielded.copy()
     assert plain[2].sum() > 0  # the increment yields somewhere
     solver.restore(start)
@@ -166,19 +173,7 @@ def test_a_cycling_increment_is_retried_through_step(builder):
     here, on the points that yield in it) is retried holding them, converges to the plain
     solution and is counted in ``held_increments``; a retry that fails blocks the next one
     until an increment converges, and without the option no retry is made."""
-    from hybrid.model import Pressure
-
-    mesh = build_mesh(builder("footing"), width=4.8, depth=3.0, half_footing=0.6, fine=0.15,
-                      coarse=0.6, cells="quadrilateral")
-    soil = Material(name="soil", E=1e5, nu=0.3, unit_weight=20.0, cohesion=69.0, phi=20.0)
-    model = Model(mesh, {"soil": soil}, supports=[Fixed("base"), Roller("symmetry", "x"),
-                                                  Roller("right", "x")],
-                  loads=[Pressure("footing", 1.0)])
-    solver = PlasticSolver(model, degree=2, options=NewtonOptions(hold_flipping=True))
-    solver.apply_gravity(steps=2).require()
-    solver.ramp(700.0, 7).require()
-    start = solver.snapshot()
-    assert solver.step(50.0, 0.0) is not None
+    solver, start = _footing_increment(builder)
     plain_stress, flips = solver.stress.copy(), solver.yielded.copy()
     solver.restore(start)
     real = solver._newton
