@@ -219,8 +219,9 @@ def test_carsington_thesis_mesh(case, tmp_path):
     _check_run(summary, tolerance)
     # bars of the discrete phase (the thesis's description, 6.3.2): at rest, the slip surface
     # (failed interfaces that slipped >= 0.1 m) through the yellow clay, the core's boot and
-    # the core above it, the shoulder upstream. The thesis's crack from the crest is not found
-    # open during the slide (docs/carsington.md: nor in the softening analysis)
+    # the core above it, the shoulder upstream. The crest cracks in tension, but no crack from
+    # it opens 0.1 m during the slide (docs/carsington.md: in the softening analysis on the
+    # finest mesh only)
     d = summary["discrete"]
     assert d["stop"] == "rest"
     for name in ("slip_surface_through_yellow_clay",
@@ -301,20 +302,19 @@ def test_carsington_softening_coarse(case, tmp_path):
 
 @pytest.fixture(scope="module")
 def softening_meshes(tmp_path_factory):
-    """Beyond the thesis: the softening analysis on the 4 and 3 m meshes of
-    docs/carsington.md (its finer ones take minutes each), run once for the tests below;
-    on both it collapses in the same lift, comes to rest with the slip surface through the
-    yellow clay, the boot and the core, the upstream shoulder moving upstream, energy
-    bounded, elements and mass kept (no crack from the crest opens during the slide, on any of
-    the docs' meshes: a result docs/carsington.md reports, not a bar here)."""
+    """Beyond the thesis: the softening analysis on the 4, 3 and 2.5 m meshes of
+    docs/carsington.md (its finer ones take longer), run once for the tests below; on each
+    it collapses in the same lift, comes to rest with the slip surface through the yellow
+    clay, the boot and the core, the upstream shoulder moving upstream, energy bounded,
+    elements and mass kept (a crack from the crest open during the slide is a result
+    docs/carsington.md reports per mesh, not a bar here)."""
     from hybrid.case import load_case
 
     cars = load_case(CASES / "carsington.py")
     out = tmp_path_factory.mktemp("carsington_softening")
     runs = [cars.main(out=out / f"size{size:g}", size=size, softening=True, safety=False,
-                      frames=0, progress=False) for size in (4.0, 3.0)]
-    assert runs[0]["construction"]["fill_level_m_od"] == runs[1]["construction"][
-        "fill_level_m_od"]
+                      frames=0, progress=False) for size in (4.0, 3.0, 2.5)]
+    assert len({r["construction"]["fill_level_m_od"] for r in runs}) == 1
     for r in runs:
         assert r["discrete"]["stop"] == "rest"
         assert r["discrete"]["toe_detached_elements"] == 0  # the toe: the whole mass's front
@@ -332,13 +332,14 @@ MESH_CHANGE = 0.15
 
 
 def _converged(runs, key: str) -> None:
-    """``key`` of the discrete phase within MESH_CHANGE between the two meshes."""
-    coarse, fine = (r["discrete"][key] for r in runs)
-    assert_within(fine, coarse, MESH_CHANGE, f"{key} on the finer mesh against the coarser")
+    """``key`` of the discrete phase within MESH_CHANGE from each mesh to the next finer."""
+    for coarse, fine in zip(runs, runs[1:]):
+        assert_within(fine["discrete"][key], coarse["discrete"][key], MESH_CHANGE,
+                      f"{key} on the finer mesh against the coarser")
 
 
 def _observed(cars, runs, name: str) -> None:
-    """``name`` within the case's bar of the observed value on both meshes."""
+    """``name`` within the case's bar of the observed value on every mesh."""
     for r in runs:
         check = r["checks"][name]
         assert check.bar == cars.OBSERVED_BAR and check.reference is not None
@@ -346,10 +347,10 @@ def _observed(cars, runs, name: str) -> None:
 
 
 @pytest.mark.slow
-def test_carsington_softening_crest_drop_two_meshes(softening_meshes):
+def test_carsington_softening_crest_drop_three_meshes(softening_meshes):
     """The softening analysis's crest drop within 30 % of the observed 10 m (the case's bar:
     the observations are approximate, 30 % reproduces the slide's size, not its detail) on
-    both meshes, and within 15 % between them."""
+    the three meshes, and within 15 % from each to the next."""
     cars, runs = softening_meshes
     _observed(cars, runs, "crest_drop")
     _converged(runs, "crest_drop_m")
@@ -357,13 +358,14 @@ def test_carsington_softening_crest_drop_two_meshes(softening_meshes):
 
 @pytest.mark.slow
 @pytest.mark.xfail(strict=True, raises=BarNotMet, reason=(
-    "not met: the upstream toe advances 11.01 m on the 4 m mesh and 15.08 m on the 3 m mesh, "
-    "both within 30 % of the observed 12 m but 37 % apart, beyond the 15 % mesh bar "
-    "(docs/carsington.md)"))
-def test_carsington_softening_toe_two_meshes(softening_meshes):
+    "not met: the upstream toe advances 13.97, 14.50 and 9.03 m on the 4, 3 and 2.5 m meshes, "
+    "all within 30 % of the observed 12 m, but 61 % apart from the 3 to the 2.5 m mesh, beyond "
+    "the 15 % mesh bar (docs/carsington.md)"))
+def test_carsington_softening_toe_three_meshes(softening_meshes):
     """The softening analysis's upstream toe advance (the upstream end of the embankment's
-    continuous mass, at rest against the start) within 30 % of the observed 11-13 m on both
-    meshes, and within 15 % between them: a comparison the element size does not decide."""
+    continuous mass, at rest against the start) within 30 % of the observed 11-13 m on the
+    three meshes, and within 15 % from each to the next: a comparison the element size does
+    not decide."""
     cars, runs = softening_meshes
     _observed(cars, runs, "upstream_toe_movement")
     _converged(runs, "toe_runout_m")

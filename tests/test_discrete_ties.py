@@ -191,3 +191,111 @@ def test_splitting_limited_to_a_region():
     ie = st.interface_elements.tolist()
     assert modes[ie.index([0, 1])] == ties.FAIL_TENSION
     assert modes[ie.index([1, 2])] == 0
+
+
+def _no_tension(tensile_strength: float | None = 0.0, cohesion: float = 20.0) -> Material:
+    """A plastic material with a tension cut-off (the no-tension fill of a dam when 0) whose
+    bonds are given a far larger tensile strength, so that only the material's cut-off can
+    fail them in tension."""
+    return Material(name="fill", E=1.0e4, nu=0.0, density=2.0, cohesion=cohesion, phi=30.0,
+                    tensile_strength=tensile_strength, bond=Bond(tensile_strength=1.0e3))
+
+
+@pytest.mark.parametrize("element", ["Q4", "T3"])
+def test_interface_fails_where_the_material_has_cracked_in_tension(element):
+    """Points yielded on their tension cut-off: the crack is a discontinuity along the edges
+    nearer its plane than its normal (the edge's normal stress above the in-plane mean),
+    whatever the bond's tensile strength; not where the points are elastic at the same
+    stress, nor at the Mohr-Coulomb apex (no cut-off given: every direction alike)."""
+    st = rectangle(3.0, 3.0, 3, 3, element, material=_no_tension())
+    ifn = st.interface_nodes
+    d = st.x[ifn[:, 1]] - st.x[ifn[:, 0]]
+    horizontal = np.abs(d[:, 1]) < 1e-12  # normal (0, +-1)
+    vertical = np.abs(d[:, 0]) < 1e-12  # normal (+-1, 0)
+    diagonal = ~(horizontal | vertical)  # T3: normal (1, -1) / sqrt(2), at 45 deg
+
+    def modes(angle: float, yielded: int = 1) -> np.ndarray:
+        """sigma_1 = 0 (the cut-off) at ``angle`` [deg] from x, sigma_3 = -40 kPa."""
+        a = math.radians(angle)
+        c, s = math.cos(a), math.sin(a)
+        s1, s3 = 0.0, -40.0
+        st.stress[:] = [s1 * c * c + s3 * s * s, s1 * s * s + s3 * c * c, s3,
+                        (s1 - s3) * s * c]
+        st.yielded[:] = yielded
+        return ties.check_interfaces(st)
+
+    for angle in (0.0, 30.0):  # the vertical edges' normal within 45 deg of sigma_1
+        m = modes(angle)
+        assert np.all(m[vertical] == ties.FAIL_TENSION)
+        assert np.all(m[horizontal] == 0)
+    m = modes(90.0)
+    assert np.all(m[horizontal] == ties.FAIL_TENSION)
+    assert np.all(m[vertical] == 0)
+    # T3 diagonals (normal at -45 deg): nearer the crack's plane at -30, not at +30 deg
+    assert np.all(modes(-30.0)[diagonal] == ties.FAIL_TENSION)
+    assert np.all(modes(30.0)[diagonal] == 0)
+    # both in-plane principal stresses on the cut-off (a biaxial crack): every edge fails
+    st.stress[:] = [0.0, 0.0, -40.0, 0.0]
+    assert np.all(ties.check_interfaces(st) == ties.FAIL_TENSION)
+    # a point at the same stress whose last update was elastic has not cracked
+    assert not modes(0.0, yielded=0).any()
+    # yielded, but the stress 1 kPa below the cut-off (the out-of-plane stress at it): not
+    # cracked
+    st.stress[:] = [-1.0, -40.0, 0.0, 0.0]
+    st.yielded[:] = 1
+    assert not ties.check_interfaces(st).any()
+    # no cut-off below the apex (here c = 0: the apex at 0, the same stress): the rule is off
+    st_apex = rectangle(3.0, 3.0, 3, 3, element, material=_no_tension(None, cohesion=0.0))
+    st_apex.stress[:] = [0.0, -40.0, -40.0, 0.0]
+    st_apex.yielded[:] = 1
+    assert not (ties.check_interfaces(st_apex) == ties.FAIL_TENSION).any()
+
+
+def test_bar_of_a_tension_cut_off_material_cracks_at_its_tensile_strength():
+    """A bar pulled slowly at one end, its material's tension cut-off ft below its bonds'
+    tensile strength: inside the elements the stress is capped at ft, so the bonds' test
+    alone would never fail; the bar cracks as its points yield on the cut-off, the support
+    reaction then ft * h to 2 % (as a bar whose bonds have strength ft)."""
+    ft, h, L = 5.0, 1.0, 10.0
+    st = rectangle(L, h, 10, 1, material=_no_tension(ft), gravity=(0.0, 0.0))
+    left = np.isclose(st.x_ref[:, 0], 0.0)
+    right = np.isclose(st.x_ref[:, 0], L)
+    st.fix(left, x=True, y=False)
+    st.fix(left & np.isclose(st.x_ref[:, 1], 0.0), x=False, y=True)
+    vel = 2.0e-3  # m/s: dynamic stress rho c V = 0.28 kPa, 5.7 % of ft, damped out
+    st.fix(right, x=True, y=False, velocity=(vel, 0.0))
+    dt = 0.5 * integrate.stable_time_step(st)
+    reaction = None
+    for _ in range(20000):
+        integrate.step(st, dt, mass_damping=5.0)
+        modes = ties.check_interfaces(st)
+        if modes.any():
+            reaction = -np.sum(st.internal_force[left, 0])
+            assert np.all(modes[np.flatnonzero(modes)] == ties.FAIL_TENSION)
+            break
+    assert reaction is not None
+    # the cut-off caps the reaction at ft h: 2 % below it at most says the crack waited for it
+    assert abs(reaction / (ft * h) - 1.0) < 0.02
+
+
+def test_a_crack_on_one_side_fails_the_edge():
+    """As for softening, the points on one side of the edge having cracked suffice (a band of
+    cracked elements one element wide parts from its neighbours); an undrained clay (phi = 0)
+    with a given cut-off cracks alike; an elastic neighbour never cracks."""
+    from hybrid.discrete.builders import rectangle_mesh
+    from hybrid.discrete.state import from_mesh
+
+    clay = Material(name="core", E=2.5e3, nu=0.43, density=1.9, cohesion=52.0,
+                    tensile_strength=0.0, bond=Bond(tensile_strength=52.0))
+    rock = Material(name="rock", E=1.0e5, nu=0.3, density=2.0, bond=Bond(tensile_strength=1e3))
+    pts, cells = rectangle_mesh(2.0, 1.0, 2, 1)
+    st = from_mesh(pts, cells, [0, 1], [clay, rock])
+    st.stress[0] = [0.0, -40.0, -20.0, 0.0]  # the clay on its cut-off across the edge
+    st.stress[1] = [-10.0, -40.0, -20.0, 0.0]  # the rock in compression
+    st.yielded[0] = 1
+    assert ties.check_interfaces(st).tolist() == [ties.FAIL_TENSION]
+    st.yielded[0] = 0  # the clay's last update elastic: nothing has cracked
+    assert ties.check_interfaces(st).tolist() == [0]
+    st.yielded[:] = 1  # the rock flagged too: an elastic material never cracks
+    st.stress[0] = [-5.0, -40.0, -20.0, 0.0]
+    assert ties.check_interfaces(st).tolist() == [0]

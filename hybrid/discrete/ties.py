@@ -18,6 +18,16 @@ when the Gauss points next to the edge on either side have all reached the resid
 the softened band becomes a discontinuity, and the failed interface is from then on a
 contact that carries the residual strength, c_r + sigma_n tan(phi_r) while its sides press
 on each other (``Contact`` defaults to the residual cohesion and angle).
+An interface likewise fails in tension where the material beside it has cracked: where the
+Gauss points next to the edge on either side have all yielded, at their last update, with the
+in-plane major principal stress on the tension cut-off (a given tensile strength below the
+Mohr-Coulomb apex, such as a no-tension fill's 0), and the edge lies nearer the crack's plane
+than its normal (sigma_N at least the in-plane mean of the averaged stress: the edge's normal
+within 45 deg of the major principal direction). Inside an element on its cut-off the stress
+is capped at the tensile strength, so the traction on an edge never exceeds it and the
+tension test above alone would leave the crack smeared in the elements, stretching them,
+whatever the bond's own tensile strength. (A softening material whose residual cut-off is the
+apex, c_r = 0, leaves this rule at residual, where the softened test above takes over.)
 Optionally (``split_plastic_strain``, an addition to the thesis) an interface also fails when
 the mean accumulated plastic strain of those Gauss points exceeds the limit: inside a
 perfectly plastic element the stress is capped on the yield surface, so the traction on a mesh
@@ -47,7 +57,8 @@ import math
 import numpy as np
 
 import hybrid  # noqa: F401
-from hybrid.constitutive.softening import softening_fraction
+from hybrid.constitutive.softening import softening_fraction, strength_at
+from hybrid.constitutive.table import NO_TENSION_CUTOFF
 from hybrid.discrete.integrate import element_held, step_lengths
 from hybrid.discrete.state import LEDGER_GROUPS, DiscreteState, groups_csr
 
@@ -81,6 +92,9 @@ DISTORTION_LIMIT = 0.75
 #: met by a fold, not by the flow a parallelogram follows. For a T3 every corner's Jacobian is
 #: twice its area.
 CORNER_LIMIT = 0.25
+#: A Gauss point is on its tension cut-off when its major principal stress is within this
+#: fraction of its stress scale of the cut-off [-]: the return puts it there to rounding.
+CUTOFF_TOLERANCE = 1.0e-9
 
 
 @numba.njit(cache=True, inline="always")
@@ -132,11 +146,36 @@ def _corner_ratio_kernel(x, x_ref, element_nodes, fixed, out):
         out[e] = worst
 
 
+@numba.njit(cache=True, inline="always")
+def _cracked_point(stress, yielded, material_table, e, gp, m, kappa, length):
+    """Whether Gauss point ``gp`` of ``e`` has cracked: yielded onto its tension cut-off.
+
+    The last update yielded and the in-plane major principal stress is at the tension cut-off
+    in force (``softening.strength_at``). Only a cut-off below the Mohr-Coulomb apex counts
+    (a given tensile strength: a Rankine plane, whose normal is the crack's); at the apex
+    every direction is alike and the rule does not apply.
+    """
+    if yielded[e, gp] == 0:
+        return False
+    c, sin_phi, cos_phi, _, t = strength_at(
+        material_table, m, softening_fraction(material_table, m, kappa, length))
+    if t >= NO_TENSION_CUTOFF or (sin_phi > 0.0 and t >= c * cos_phi / sin_phi * (1.0 - 1e-10)):
+        return False
+    sxx = stress[e, gp, 0]
+    syy = stress[e, gp, 1]
+    sxy = stress[e, gp, 3]
+    h = 0.5 * (sxx - syy)
+    rad = math.sqrt(h * h + sxy * sxy)
+    s1 = 0.5 * (sxx + syy) + rad
+    scale = abs(sxx) + abs(syy) + abs(stress[e, gp, 2]) + abs(sxy) + c + abs(t)
+    return s1 >= t - CUTOFF_TOLERANCE * scale
+
+
 @numba.njit(cache=True, parallel=True)
 def _failure_kernel(x, element_nodes, element_material, stress, interface_elements,
                     interface_nodes, interface_intact, interface_splittable, interface_table,
-                    material_table, element_length, plastic_strain, plastic_limit, fragment,
-                    out):
+                    material_table, element_length, plastic_strain, yielded, plastic_limit,
+                    fragment, out):
     """out[i]: 0 holds, 1 tension, 2 shear, 3 plastic strain, 4 softened, 5 distorted.
 
     Mode 5: an element beside the interface is a fragment (``mark_fragments``).
@@ -157,12 +196,14 @@ def _failure_kernel(x, element_nodes, element_material, stress, interface_elemen
         eps_p = 0.0
         cnt = 0.0
         softened = 0.0  # the larger of the two sides' mean softening fractions
+        cracked = False  # every point next to the edge on one side at least has cracked
         for side in range(2):
             e = ea if side == 0 else eb
             m = element_material[e]
             # the edge starts at a0 in A and at b1 in B (both counter-clockwise)
             k = _local_index(element_nodes, e, a0 if side == 0 else interface_nodes[i, 3])
             xi = 0.0
+            side_cracked = True
             if ngp == 1:
                 sxx += stress[e, 0, 0]
                 syy += stress[e, 0, 1]
@@ -170,6 +211,8 @@ def _failure_kernel(x, element_nodes, element_material, stress, interface_elemen
                 eps_p += plastic_strain[e, 0]
                 xi = softening_fraction(material_table, m, plastic_strain[e, 0],
                                         element_length[e])
+                side_cracked = _cracked_point(stress, yielded, material_table, e, 0, m,
+                                              plastic_strain[e, 0], element_length[e])
                 cnt += 1.0
             else:
                 for gp in (k, (k + 1) % 4):
@@ -179,8 +222,12 @@ def _failure_kernel(x, element_nodes, element_material, stress, interface_elemen
                     eps_p += plastic_strain[e, gp]
                     xi += 0.5 * softening_fraction(material_table, m, plastic_strain[e, gp],
                                                    element_length[e])
+                    side_cracked = side_cracked and _cracked_point(
+                        stress, yielded, material_table, e, gp, m, plastic_strain[e, gp],
+                        element_length[e])
                     cnt += 1.0
             softened = max(softened, xi)
+            cracked = cracked or side_cracked
         sxx /= cnt
         syy /= cnt
         sxy /= cnt
@@ -199,7 +246,12 @@ def _failure_kernel(x, element_nodes, element_material, stress, interface_elemen
         strength = min(interface_table[ma, 0] + p * interface_table[ma, 1],
                        interface_table[mb, 0] + p * interface_table[mb, 1])
         ft = min(interface_table[ma, 2], interface_table[mb, 2])
-        if sn > ft:
+        # a crack's plane (normal along the major principal stress) is followed by the edges
+        # nearer to it than to its normal: sn at least the in-plane mean stress (every edge
+        # where the two principal stresses are equal, as at a biaxial crack)
+        mean = 0.5 * (sxx + syy)
+        facing = sn >= mean - CUTOFF_TOLERANCE * (abs(sxx) + abs(syy) + abs(sxy))
+        if sn > ft or (cracked and facing):
             out[i] = FAIL_TENSION
         elif tau > strength:
             out[i] = FAIL_SHEAR
@@ -270,7 +322,7 @@ def check_interfaces(state: DiscreteState, split_plastic_strain: float = math.in
                         state.interface_elements, state.interface_nodes,
                         state.interface_intact, state.interface_splittable,
                         state.interface_table, state.material_table, state.element_length,
-                        state.plastic_strain, float(split_plastic_strain),
+                        state.plastic_strain, state.yielded, float(split_plastic_strain),
                         np.isfinite(state.fragment_cap), out)
     return out
 
