@@ -299,3 +299,33 @@ def test_a_crack_on_one_side_fails_the_edge():
     st.yielded[:] = 1  # the rock flagged too: an elastic material never cracks
     st.stress[0] = [-5.0, -40.0, -20.0, 0.0]
     assert ties.check_interfaces(st).tolist() == [0]
+
+
+def test_a_run_records_how_each_interface_failed(tmp_path):
+    """The tension-cracked bar run by the solver: its failed interfaces are recorded as
+    failed in tension (``interface_mode``, counted by ``failure_modes``), the record survives
+    a checkpoint, and a checkpoint written without it loads with nothing recorded."""
+    from hybrid.discrete.solver import ExplicitSolver, RunOptions
+    from hybrid.discrete.state import DiscreteState
+
+    st = rectangle(10.0, 1.0, 10, 1, material=_no_tension(5.0), gravity=(0.0, 0.0))
+    left = np.isclose(st.x_ref[:, 0], 0.0)
+    st.fix(left, x=True, y=False)
+    st.fix(left & np.isclose(st.x_ref[:, 1], 0.0), x=False, y=True)
+    st.fix(np.isclose(st.x_ref[:, 0], 10.0), x=True, y=False, velocity=(0.05, 0.0))
+    assert not st.interface_mode.any()
+    with ExplicitSolver(st, RunOptions(split_every=1, contact=False)) as sol:
+        sol.run(until_time=0.2)
+    failed = ~st.interface_intact
+    assert failed.any()
+    assert np.all(st.interface_mode[failed] == ties.FAIL_TENSION)
+    assert np.all(st.interface_mode[~failed] == 0)
+    counts = ties.failure_modes(st)
+    assert counts["tension"] == int(failed.sum())
+    assert sum(counts.values()) == int(failed.sum())
+    again = DiscreteState.load(st.save(tmp_path / "state.npz"))
+    np.testing.assert_array_equal(again.interface_mode, st.interface_mode)
+    older = {k: v for k, v in st.arrays().items() if k != "interface_mode"}
+    np.savez(tmp_path / "older.npz", **older)
+    loaded = DiscreteState.load(tmp_path / "older.npz")
+    assert ties.failure_modes(loaded)["not_recorded"] == int(failed.sum())

@@ -385,6 +385,8 @@ def test_an_element_beside_its_failed_band_goes_on_yielding_at_residual():
     split = _sheared_pair(True, gamma_end)
     flowing = _sheared_pair(False, gamma_end)
     assert not split.interface_intact[split.interface_splittable].any()
+    # the run records how it failed: softened (the bond never reaches its peak strength)
+    assert ties.failure_modes(split)["softened"] == int(split.interface_splittable.sum()) > 0
     for st in (split, flowing):
         assert st.plastic_strain.min() > 2.0 * kappa_r
         assert float(np.abs(st.stress[..., 3]).max()) <= C_RES * (1.0 + 1e-6)

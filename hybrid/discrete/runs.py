@@ -24,6 +24,7 @@ from hybrid.discrete.ledger import support_work
 from hybrid.discrete.outputs import frame_interval, standard_outputs
 from hybrid.discrete.solver import ExplicitSolver, Observer, RunOptions, RunResult
 from hybrid.discrete.state import DiscreteState
+from hybrid.discrete.ties import failure_modes
 from hybrid.io import Check
 
 __all__ = ["LoadProgram", "PunchProgram", "RestRun", "require_serial", "run_to_rest"]
@@ -322,13 +323,15 @@ class RestRun:
         """The run in numbers for a summary.
 
         "elements" (at the end), "dt_s", "steps", "time_s", "stop" (the reason),
-        "wall_time_s", "interfaces_failed", "energy_peak_over_supply"
+        "wall_time_s", "interfaces_failed" and "interfaces_failed_by_mode" (how they failed:
+        ``failure_modes``), "energy_peak_over_supply"
         (:func:`~hybrid.discrete.energy.energy_peak_ratio`) and the "outputs" (paths).
         """
         res, state = self.result, self.state
         return {"elements": state.n_elements, "dt_s": res.dt, "steps": res.steps,
                 "time_s": res.time, "stop": res.stop_reason, "wall_time_s": res.wall_time,
                 "interfaces_failed": int((~state.interface_intact).sum()),
+                "interfaces_failed_by_mode": failure_modes(state),
                 "energy_peak_over_supply": energy_peak_ratio(res.history, res.start),
                 "outputs": [str(f) for f in self.outputs]}
 

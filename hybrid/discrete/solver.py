@@ -371,7 +371,9 @@ class ExplicitSolver:
             new_fragments = ties.mark_fragments(st)
             modes = ties.check_interfaces(st, self._split_limit)
             if modes.any():
-                self.n_split += ties.split_interfaces(st, modes > 0)
+                failed = modes > 0  # intact ones only: check_interfaces skips the others
+                st.interface_mode[failed] = modes[failed]
+                self.n_split += ties.split_interfaces(st, failed)
             if new_fragments:
                 self._point_cap = ties.plastic_cap(st, self._cap)
         self.steps += 1

@@ -140,6 +140,9 @@ class DiscreteState:
     wall_nodes: np.ndarray = MADE_ON_CREATION  # (n, 2) int64 [wall row, node]: the support
     #     nodes each wall belongs to; a wall goes when none of them is held along its normal
     #     (a wall with none listed stands for good)
+    interface_mode: np.ndarray = MADE_ON_CREATION  # (n_if,) int8 how each failed interface
+    #     failed at a splitting check of a run (``ties.FAIL_TENSION`` ... ``FAIL_DISTORTED``);
+    #     0 while intact, and for one failed otherwise (at creation, or by the caller)
 
     def __post_init__(self) -> None:
         n = self.x.shape[0]
@@ -170,6 +173,8 @@ class DiscreteState:
             self.walls = np.zeros((0, 5))
         if self.wall_nodes is None:
             self.wall_nodes = np.zeros((0, 2), dtype=np.int64)
+        if self.interface_mode is None:
+            self.interface_mode = np.zeros(self.interface_elements.shape[0], dtype=np.int8)
         if self.material_table.ndim != 2 or self.material_table.shape[1] != TABLE_WIDTH:
             raise ValueError(f"material_table has shape {self.material_table.shape}; need "
                              f"(n_mat, {TABLE_WIDTH}) rows from kernel_table (a checkpoint "
@@ -316,6 +321,7 @@ _LAYOUT: dict[str, tuple[str, tuple[str | int, ...]]] = {
     "primed": ("b1", ()), "dt": ("f8", ()), "rigid_links": ("i8", ("L", 2)),
     "element_length": ("f8", ("E",)), "fragment_cap": ("f8", ("E",)),
     "walls": ("f8", ("B", 5)), "wall_nodes": ("i8", ("BN", 2)),
+    "interface_mode": ("i1", ("I",)),
 }
 #: index arrays and the size their entries index
 _INDEX_RANGE = {"element_nodes": "N", "element_material": "M", "node_group": "S",

@@ -67,13 +67,15 @@ import numba  # isort: skip
 __all__ = ["check_interfaces", "split_interfaces", "limit_splitting", "FAIL_TENSION",
            "FAIL_SHEAR", "FAIL_PLASTIC", "FAIL_SOFTENED", "FAIL_DISTORTED", "DISTORTION_LIMIT",
            "CORNER_LIMIT", "stable_step_ratio", "corner_ratio", "mark_fragments",
-           "plastic_cap"]
+           "plastic_cap", "failure_modes", "MODE_NAMES"]
 
 FAIL_TENSION = 1
 FAIL_SHEAR = 2
 FAIL_PLASTIC = 3
 FAIL_SOFTENED = 4
 FAIL_DISTORTED = 5
+#: The failure modes by name, as ``failure_modes`` counts them (index: the mode).
+MODE_NAMES = ("not_recorded", "tension", "shear", "plastic_strain", "softened", "distorted")
 
 #: An element parts from its neighbours once its time-step scale has fallen below this
 #: fraction of its value at creation [-]. With the run's time step half the smallest initial
@@ -325,6 +327,16 @@ def check_interfaces(state: DiscreteState, split_plastic_strain: float = math.in
                         state.plastic_strain, state.yielded, float(split_plastic_strain),
                         np.isfinite(state.fragment_cap), out)
     return out
+
+
+def failure_modes(state: DiscreteState) -> dict[str, int]:
+    """How many failed interfaces failed by each mode: {name in ``MODE_NAMES``: count}.
+
+    From ``DiscreteState.interface_mode``; "not_recorded" counts those failed other than at
+    a run's splitting check (at creation, or by the caller).
+    """
+    modes = state.interface_mode[~state.interface_intact]
+    return {name: int((modes == k).sum()) for k, name in enumerate(MODE_NAMES)}
 
 
 def split_interfaces(state: DiscreteState, failed) -> int:
