@@ -206,7 +206,7 @@ class ControlledPath:
                 s.Du.x.scatter_forward()
                 s._lam.value = lam0 + d_lam
         s._update_stress()
-        s._flag_history = [s._trial[3].copy()]
+        s._note_flags(first=True)
         norm = s._residual()
         gap = self._gap(du, d_lam, ds)
         residuals: list[float] = []
@@ -240,7 +240,7 @@ class ControlledPath:
                 dd_lam = (ha - gap) / hb
                 move = self._joint(du.copy(), -a + dd_lam * b, lam0, d_lam, dd_lam)
                 norm = s._line_search(move, norm)
-                s._flag_history.append(s._trial[3].copy())
+                s._note_flags()
                 d_lam = self._d_lam
                 gap = self._gap(du, d_lam, ds)
                 s.iterations_total += 1

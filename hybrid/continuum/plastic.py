@@ -342,7 +342,7 @@ class PlasticSolver:
         self._bcs_hom = bcs
         residuals: list[float] = []
         self._update_stress()
-        self._flag_history = [self._trial[3].copy()]
+        self._note_flags(first=True)
         norm = self._residual()
         scale = self._solve_scale = self._scale()
         for _ in range(opts.max_iterations):
@@ -364,7 +364,7 @@ class PlasticSolver:
             self.delta.x.scatter_forward()
             norm = self._line_search(self._along(self.Du.x.array.copy(), -self.delta.x.array),
                                      norm)
-            self._flag_history.append(self._trial[3].copy())
+            self._note_flags()
             self.iterations_total += 1
         residuals.append(norm)
         return norm <= opts.tolerance * scale, residuals
@@ -372,6 +372,17 @@ class PlasticSolver:
     def _scale(self) -> float:
         """The residual norm's reference: max(||f_int||, |lambda| + 1, 1) (module docstring)."""
         return max(self._internal_norm(), float(np.abs(self._lam.value)) + 1.0, 1.0)
+
+    def _note_flags(self, first: bool = False) -> None:
+        """Keep the yield flags of this iterate (``first``: of a new solve), for a retry.
+
+        Only with ``hold_flipping``: nothing else reads them (:meth:`_flipping`).
+        """
+        if not self.options.hold_flipping:
+            return
+        if first:
+            self._flag_history = []
+        self._flag_history.append(self._trial[3].copy())
 
     def _flipping(self) -> np.ndarray:
         """The points whose yield flag changed over the last ``FLIP_WINDOW`` iterates."""

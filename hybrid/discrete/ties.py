@@ -149,18 +149,17 @@ def _corner_ratio_kernel(x, x_ref, element_nodes, fixed, out):
 
 
 @numba.njit(cache=True, inline="always")
-def _cracked_point(stress, yielded, material_table, e, gp, m, kappa, length):
+def _cracked_point(stress, yielded, material_table, e, gp, m, xi):
     """Whether Gauss point ``gp`` of ``e`` has cracked: yielded onto its tension cut-off.
 
     The last update yielded and the in-plane major principal stress is at the tension cut-off
-    in force (``softening.strength_at``). Only a cut-off below the Mohr-Coulomb apex counts
-    (a given tensile strength: a Rankine plane, whose normal is the crack's); at the apex
-    every direction is alike and the rule does not apply.
+    in force at its softening fraction ``xi`` (``softening.strength_at``). Only a cut-off
+    below the Mohr-Coulomb apex counts (a given tensile strength: a Rankine plane, whose
+    normal is the crack's); at the apex every direction is alike and the rule does not apply.
     """
     if yielded[e, gp] == 0:
         return False
-    c, sin_phi, cos_phi, _, t = strength_at(
-        material_table, m, softening_fraction(material_table, m, kappa, length))
+    c, sin_phi, cos_phi, _, t = strength_at(material_table, m, xi)
     if t >= NO_TENSION_CUTOFF or (sin_phi > 0.0 and t >= c * cos_phi / sin_phi * (1.0 - 1e-10)):
         return False
     sxx = stress[e, gp, 0]
@@ -213,8 +212,7 @@ def _failure_kernel(x, element_nodes, element_material, stress, interface_elemen
                 eps_p += plastic_strain[e, 0]
                 xi = softening_fraction(material_table, m, plastic_strain[e, 0],
                                         element_length[e])
-                side_cracked = _cracked_point(stress, yielded, material_table, e, 0, m,
-                                              plastic_strain[e, 0], element_length[e])
+                side_cracked = _cracked_point(stress, yielded, material_table, e, 0, m, xi)
                 cnt += 1.0
             else:
                 for gp in (k, (k + 1) % 4):
@@ -222,11 +220,11 @@ def _failure_kernel(x, element_nodes, element_material, stress, interface_elemen
                     syy += stress[e, gp, 1]
                     sxy += stress[e, gp, 3]
                     eps_p += plastic_strain[e, gp]
-                    xi += 0.5 * softening_fraction(material_table, m, plastic_strain[e, gp],
-                                                   element_length[e])
+                    xi_gp = softening_fraction(material_table, m, plastic_strain[e, gp],
+                                               element_length[e])
+                    xi += 0.5 * xi_gp
                     side_cracked = side_cracked and _cracked_point(
-                        stress, yielded, material_table, e, gp, m, plastic_strain[e, gp],
-                        element_length[e])
+                        stress, yielded, material_table, e, gp, m, xi_gp)
                     cnt += 1.0
             softened = max(softened, xi)
             cracked = cracked or side_cracked
