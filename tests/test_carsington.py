@@ -195,6 +195,17 @@ def test_carsington_smoke(case, tmp_path):
         check = summary["checks"][name]
         assert check.reference is None and source in check.source, name
     assert summary["checks"]["crest_drop"].computed == d["crest_drop_m"]
+    # where and how the bonds began to fail: every failed interface counted by mode, no set
+    # failing before the section as a whole
+    onset = d["failure_onset"]
+    assert onset["anywhere"]["failed"] == d["interfaces_failed"]
+    assert sum(onset["anywhere"]["failed_by_mode"].values()) == d["interfaces_failed"]
+    first = onset["anywhere"]["first_failure_s"]
+    for name, o in onset.items():
+        assert o["failed"] == sum(o["failed_by_mode"].values()) <= d["interfaces_failed"], name
+        assert (o["first_failure_s"] is None) == (o["failed"] == 0), name
+        if o["failed"]:
+            assert 0.0 < first <= o["first_failure_s"] <= d["time_s"], name
     assert summary["checks"]["upstream_toe_movement"].computed == d["toe_runout_m"]
     series = meshio.xdmf.TimeSeriesReader(tmp_path / "discrete" / "discrete.xdmf")
     points, cells = series.read_points_cells()
@@ -219,12 +230,14 @@ def test_carsington_thesis_mesh(case, tmp_path):
     _check_run(summary, tolerance)
     # bars of the discrete phase (the thesis's description, 6.3.2): at rest, the slip surface
     # (failed interfaces that slipped >= 0.1 m) through the yellow clay, the core's boot and
-    # the core above it, the shoulder upstream. The crest cracks in tension, but no crack from
-    # it opens 0.1 m during the slide (docs/carsington.md: in the softening analysis on the
-    # finest mesh only, and with softening in the discrete phase)
+    # the core above it, the shoulder upstream; failure begins at the crest's top (bonds
+    # failing in tension) or in the yellow clay. The crest cracks, but no crack from it opens
+    # 0.1 m during the slide (docs/carsington.md: in the softening analysis on the finest mesh
+    # only, and with softening in the discrete phase)
     d = summary["discrete"]
     assert d["stop"] == "rest"
-    for name in ("slip_surface_through_yellow_clay",
+    for name in ("failure_begins_at_crest_or_in_yellow_clay", "crest_cracks_in_tension",
+                 "slip_surface_through_yellow_clay",
                  "slip_surface_through_boot", "slip_surface_through_core",
                  "shoulder_moves_upstream", "energy_excess_over_sources",
                  "elements_conserved", "mass_conserved"):

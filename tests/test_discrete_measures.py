@@ -13,14 +13,17 @@ from hybrid.discrete.measures import (
     SlipSurface,
     SlopeMarks,
     crack_from_top,
+    failure_onset,
     interface_opening,
     interface_slip,
+    interfaces_of,
     mean_displacement,
     moving_zone_back,
     slip_surface,
     slip_trace,
     slipped_interfaces,
     surface_opening,
+    top_interfaces,
 )
 from hybrid.materials import Material
 
@@ -98,6 +101,45 @@ def test_crack_from_top_follows_connected_failed_interfaces_down():
     assert interface_slip(st).max() == pytest.approx(0.3)
     slid = crack_from_top(st, (0.5, 1.5), min_opening=0.1, top_depth=0.01)
     assert not slid.interfaces.any() and slid.depth == 0.0
+
+
+def test_failure_onset_by_interface_set():
+    """Where and how bonds began to fail, from the recorded time and mode of each failed
+    interface: the first time and its modes per set, all modes, sets with none failed, and
+    failures not recorded by a run (nan time) counted but never first."""
+    from hybrid.discrete import ties
+
+    st, mid = _column_with_cracks([])
+    top = top_interfaces(st, (0.5, 1.5), top_depth=0.01)
+    assert mid[top].tolist() == [[1.0, 2.5]]  # the vertical interface reaching the top
+    left = interfaces_of(st, st.element_centroids()[:, 0] < 1.0)
+    assert left.sum() == 5  # the left column's two horizontal and the three vertical ones
+    vertical = np.isclose(mid[:, 0], 1.0)
+    low = vertical & (mid[:, 1] < 1.0)
+    # the top vertical interface failed in tension at 0.2 s, the lowest one in shear at 0.1 s
+    # and the one between them by the caller (no time, no mode)
+    for where, t, mode in ((top, 0.2, ties.FAIL_TENSION), (low, 0.1, ties.FAIL_SHEAR),
+                           (vertical & ~top & ~low, math.nan, 0)):
+        st.interface_intact[where] = False
+        st.interface_failure_time[where] = t
+        st.interface_mode[where] = mode
+    onset = failure_onset(st, {"top": top, "left": left, "right_top": ~left & ~vertical,
+                               "all": np.ones_like(top)})
+    assert onset["top"].first_time == 0.2 and onset["top"].first_modes == {"tension": 1}
+    assert onset["all"].first_time == 0.1 and onset["all"].first_modes == {"shear": 1}
+    assert onset["all"].failed == 3
+    assert onset["all"].modes == {"not_recorded": 1, "tension": 1, "shear": 1}
+    assert onset["left"].modes == onset["all"].modes  # every vertical one borders the left
+    none = onset["right_top"]
+    assert math.isnan(none.first_time) and none.failed == 0 and none.modes == {}
+    assert none.summary()["first_failure_s"] is None
+    assert onset["top"].summary() == {"first_failure_s": 0.2,
+                                      "first_failure_modes": {"tension": 1}, "failed": 1,
+                                      "failed_by_mode": {"tension": 1}}
+    # failed, but none by a run: counted, no first time
+    st.interface_failure_time[:] = math.nan
+    caller = failure_onset(st, {"all": np.ones_like(top)})["all"]
+    assert math.isnan(caller.first_time) and caller.failed == 3 and caller.first_modes == {}
 
 
 def test_slip_trace_is_in_the_start_geometry():

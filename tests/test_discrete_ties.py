@@ -303,9 +303,10 @@ def test_a_crack_on_one_side_fails_the_edge():
 
 def test_a_run_records_how_each_interface_failed(tmp_path):
     """The tension-cracked bar run by the solver: its failed interfaces are recorded as
-    failed in tension (``interface_mode``, counted by ``failure_modes``), the record survives
-    a checkpoint, and a checkpoint written without it loads with nothing recorded."""
-    from hybrid.discrete.solver import ExplicitSolver, RunOptions
+    failed in tension (``interface_mode``, counted by ``failure_modes``) at the time of the
+    splitting check that failed them (``interface_failure_time``), the record survives a
+    checkpoint, and a checkpoint written without it loads with nothing recorded."""
+    from hybrid.discrete.solver import ExplicitSolver, Observer, RunOptions
     from hybrid.discrete.state import DiscreteState
 
     st = rectangle(10.0, 1.0, 10, 1, material=_no_tension(5.0), gravity=(0.0, 0.0))
@@ -313,19 +314,35 @@ def test_a_run_records_how_each_interface_failed(tmp_path):
     st.fix(left, x=True, y=False)
     st.fix(left & np.isclose(st.x_ref[:, 1], 0.0), x=False, y=True)
     st.fix(np.isclose(st.x_ref[:, 0], 10.0), x=True, y=False, velocity=(0.05, 0.0))
-    assert not st.interface_mode.any()
-    with ExplicitSolver(st, RunOptions(split_every=1, contact=False)) as sol:
+    assert not st.interface_mode.any() and np.isnan(st.interface_failure_time).all()
+    seen: dict[int, tuple[float, int]] = {}  # interface -> (time, step) it was seen failed
+
+    class Note(Observer):
+        def stepped(self, solver: ExplicitSolver) -> None:
+            for i in np.flatnonzero(~solver.state.interface_intact):
+                seen.setdefault(int(i), (solver.state.time, solver.state.step))
+
+    with ExplicitSolver(st, RunOptions(split_every=3, contact=False),
+                        observers=[Note()]) as sol:
         sol.run(until_time=0.2)
     failed = ~st.interface_intact
     assert failed.any()
     assert np.all(st.interface_mode[failed] == ties.FAIL_TENSION)
     assert np.all(st.interface_mode[~failed] == 0)
+    # the time of the step whose splitting check failed it; none for the intact ones
+    assert np.isnan(st.interface_failure_time[~failed]).all()
+    assert seen.keys() == set(np.flatnonzero(failed))
+    assert {i: st.interface_failure_time[i] for i in seen} == {i: t for i, (t, _) in seen.items()}
+    assert {k % 3 for _, k in seen.values()} == {0}  # at splitting checks only
     counts = ties.failure_modes(st)
     assert counts["tension"] == int(failed.sum())
     assert sum(counts.values()) == int(failed.sum())
     again = DiscreteState.load(st.save(tmp_path / "state.npz"))
     np.testing.assert_array_equal(again.interface_mode, st.interface_mode)
-    older = {k: v for k, v in st.arrays().items() if k != "interface_mode"}
+    np.testing.assert_array_equal(again.interface_failure_time, st.interface_failure_time)
+    older = {k: v for k, v in st.arrays().items()
+             if k not in ("interface_mode", "interface_failure_time")}
     np.savez(tmp_path / "older.npz", **older)
     loaded = DiscreteState.load(tmp_path / "older.npz")
     assert ties.failure_modes(loaded)["not_recorded"] == int(failed.sum())
+    assert np.isnan(loaded.interface_failure_time).all()

@@ -7,7 +7,8 @@ slope's crest and toe at the start of a run and measures how far they moved at i
 :class:`FootingMarks` does the same for a footing (settlement) and the ground beside it (heave);
 :func:`deposit` measures where a mass that spread over a floor came to rest;
 :func:`mean_displacement` is the mean movement of a set of elements; :func:`moving_zone_back`
-the inclination of the back of the zone that moved (an active wedge behind a wall).
+the inclination of the back of the zone that moved (an active wedge behind a wall);
+:func:`failure_onset` where and how bonds began to fail.
 """
 
 from __future__ import annotations
@@ -22,12 +23,14 @@ import numpy as np
 from hybrid.discrete.ledger import EnergyLedger
 from hybrid.discrete.solver import ExplicitSolver, Observer
 from hybrid.discrete.state import DiscreteState
+from hybrid.discrete.ties import MODE_NAMES
 from hybrid.io import Check
 
 __all__ = ["interface_slip", "slip_surface", "slip_trace", "slipped_interfaces", "SlipSurface",
            "SlopeMarks", "SlopeMovement", "FootingMarks", "Deposit", "deposit",
            "mean_displacement", "moving_zone_back", "MOVING_FRACTION", "interface_opening",
-           "Crack", "crack_from_top", "CrackWatch", "surface_opening"]
+           "Crack", "crack_from_top", "CrackWatch", "surface_opening", "FailureOnset",
+           "failure_onset", "interfaces_of", "top_interfaces"]
 
 #: The zone that moves with a wall (or a slope face): elements that have moved at least this
 #: fraction of the face's own movement [-]. Small enough to reach the back of the slip, large
@@ -356,6 +359,77 @@ class CrackWatch(Observer):
                              "observers): rerun without --resume")
         for f, v in zip(self._FIELDS, saved["seen"], strict=True):
             setattr(self, f, int(v) if f in ("interfaces", "checks") else float(v))
+
+
+def interfaces_of(state: DiscreteState, elements: np.ndarray) -> np.ndarray:
+    """(n_interfaces,) True for the interfaces with an element of ``elements`` on a side.
+
+    ``elements``: an (n_elements,) mask.
+    """
+    return np.asarray(elements, dtype=bool)[state.interface_elements].any(axis=1)
+
+
+def top_interfaces(state: DiscreteState, column: tuple[float, float], *,
+                   top_depth: float) -> np.ndarray:
+    """(n_interfaces,) True for the interfaces at the top of a column (e.g. a crest).
+
+    Those in ``column[0] < x < column[1]`` (reference midpoints) [m] with an end within
+    ``top_depth`` [m] of the column's highest node, as :func:`surface_opening` takes them.
+    """
+    ends, in_column, top = _column_top(state, column)
+    return in_column & (ends[:, :, 1].max(axis=1) >= top - top_depth)
+
+
+class FailureOnset(NamedTuple):
+    """When and how the bonds of a set of interfaces began to fail (:func:`failure_onset`).
+
+    Attributes:
+        first_time: state time of the first splitting check that failed one of them [s]
+            (``DiscreteState.interface_failure_time``; nan when none failed in a run).
+        first_modes: {mode name (``ties.MODE_NAMES``): count} of those failed at that check.
+        failed: failed interfaces of the set (recorded or not).
+        modes: {mode name: count} of every failed interface of the set (none at 0 omitted).
+    """
+
+    first_time: float
+    first_modes: dict[str, int]
+    failed: int
+    modes: dict[str, int]
+
+    def summary(self) -> dict[str, Any]:
+        """Its fields for a case's summary (nan first time as None)."""
+        return {"first_failure_s": None if math.isnan(self.first_time) else self.first_time,
+                "first_failure_modes": self.first_modes, "failed": self.failed,
+                "failed_by_mode": self.modes}
+
+
+def _mode_counts(modes: np.ndarray) -> dict[str, int]:
+    return {MODE_NAMES[k]: int((modes == k).sum()) for k in np.unique(modes)}
+
+
+def failure_onset(state: DiscreteState, where: Mapping[str, np.ndarray]
+                  ) -> dict[str, FailureOnset]:
+    """Where and how bonds began to fail: :class:`FailureOnset` of each named interface set.
+
+    ``where``: name -> (n_interfaces,) mask (:func:`interfaces_of`, :func:`top_interfaces`).
+    From the time and mode the solver recorded at the splitting check that failed each
+    interface (``interface_failure_time``, ``interface_mode``): the failure is placed to
+    within one splitting interval (``RunOptions.split_every`` steps).
+    """
+    failed = ~state.interface_intact
+    out = {}
+    for name, mask in where.items():
+        f = failed & np.asarray(mask, dtype=bool)
+        times = state.interface_failure_time[f]
+        modes = state.interface_mode[f]
+        recorded = ~np.isnan(times)
+        if not recorded.any():
+            out[name] = FailureOnset(math.nan, {}, int(f.sum()), _mode_counts(modes))
+            continue
+        first = float(times[recorded].min())
+        out[name] = FailureOnset(first, _mode_counts(modes[times == first]), int(f.sum()),
+                                 _mode_counts(modes))
+    return out
 
 
 class SlopeMovement(NamedTuple):

@@ -373,6 +373,7 @@ class ExplicitSolver:
             if modes.any():
                 failed = modes > 0  # intact ones only: check_interfaces skips the others
                 st.interface_mode[failed] = modes[failed]
+                st.interface_failure_time[failed] = st.time
                 self.n_split += ties.split_interfaces(st, failed)
             if new_fragments:
                 self._point_cap = ties.plastic_cap(st, self._cap)

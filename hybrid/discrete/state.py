@@ -143,6 +143,9 @@ class DiscreteState:
     interface_mode: np.ndarray = MADE_ON_CREATION  # (n_if,) int8 how each failed interface
     #     failed at a splitting check of a run (``ties.FAIL_TENSION`` ... ``FAIL_DISTORTED``);
     #     0 while intact, and for one failed otherwise (at creation, or by the caller)
+    interface_failure_time: np.ndarray = MADE_ON_CREATION  # (n_if,) state time at the
+    #     splitting check that failed each interface [s]; nan while intact, and for one failed
+    #     otherwise (as interface_mode)
 
     def __post_init__(self) -> None:
         n = self.x.shape[0]
@@ -175,6 +178,8 @@ class DiscreteState:
             self.wall_nodes = np.zeros((0, 2), dtype=np.int64)
         if self.interface_mode is None:
             self.interface_mode = np.zeros(self.interface_elements.shape[0], dtype=np.int8)
+        if self.interface_failure_time is None:
+            self.interface_failure_time = np.full(self.interface_elements.shape[0], np.nan)
         if self.material_table.ndim != 2 or self.material_table.shape[1] != TABLE_WIDTH:
             raise ValueError(f"material_table has shape {self.material_table.shape}; need "
                              f"(n_mat, {TABLE_WIDTH}) rows from kernel_table (a checkpoint "
@@ -321,7 +326,7 @@ _LAYOUT: dict[str, tuple[str, tuple[str | int, ...]]] = {
     "primed": ("b1", ()), "dt": ("f8", ()), "rigid_links": ("i8", ("L", 2)),
     "element_length": ("f8", ("E",)), "fragment_cap": ("f8", ("E",)),
     "walls": ("f8", ("B", 5)), "wall_nodes": ("i8", ("BN", 2)),
-    "interface_mode": ("i1", ("I",)),
+    "interface_mode": ("i1", ("I",)), "interface_failure_time": ("f8", ("I",)),
 }
 #: index arrays and the size their entries index
 _INDEX_RANGE = {"element_nodes": "N", "element_material": "M", "node_group": "S",
