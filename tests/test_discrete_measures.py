@@ -14,6 +14,7 @@ from hybrid.discrete.measures import (
     SlopeMarks,
     crack_from_top,
     failure_onset,
+    first_failures,
     interface_opening,
     interface_slip,
     interfaces_of,
@@ -105,8 +106,9 @@ def test_crack_from_top_follows_connected_failed_interfaces_down():
 
 def test_failure_onset_by_interface_set():
     """Where and how bonds began to fail, from the recorded time and mode of each failed
-    interface: the first time and its modes per set, all modes, sets with none failed, and
-    failures not recorded by a run (nan time) counted but never first."""
+    interface: the first time and its modes per set, all modes, sets with none failed, the
+    first check's bonds by set, failures not recorded by a run (nan time) counted but never
+    first, and a failure by a run without a time making the first time unknown."""
     from hybrid.discrete import ties
 
     st, mid = _column_with_cracks([])
@@ -136,8 +138,21 @@ def test_failure_onset_by_interface_set():
     assert onset["top"].summary() == {"first_failure_s": 0.2,
                                       "first_failure_modes": {"tension": 1}, "failed": 1,
                                       "failed_by_mode": {"tension": 1}}
+    # the first check that failed a bond, and where its bonds lie
+    assert first_failures(st, {"top": top, "left": left}) == (
+        0.1, {"interfaces": 1, "top": 0, "left": 1, "elsewhere": 0})
+    assert first_failures(st, {"top": top}) == (
+        0.1, {"interfaces": 1, "top": 0, "elsewhere": 1})
+    # one failed in a run without a time (resumed from an older checkpoint): not known
+    st.interface_failure_time[low] = math.nan
+    unknown = failure_onset(st, {"all": np.ones_like(top)})["all"]
+    assert math.isnan(unknown.first_time) and unknown.first_modes == {}
+    assert unknown.modes == {"not_recorded": 1, "tension": 1, "shear": 1}
+    first, counts = first_failures(st, {"top": top})
+    assert math.isnan(first) and counts == {"interfaces": 0, "top": 0, "elsewhere": 0}
     # failed, but none by a run: counted, no first time
     st.interface_failure_time[:] = math.nan
+    st.interface_mode[:] = 0
     caller = failure_onset(st, {"all": np.ones_like(top)})["all"]
     assert math.isnan(caller.first_time) and caller.failed == 3 and caller.first_modes == {}
 

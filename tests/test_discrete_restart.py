@@ -29,7 +29,8 @@ MAT = Material(name="clay", E=1.0e5, nu=0.3, density=2.0, cohesion=5.0, phi=20.0
                residual=Strength(cohesion=1.0, phi=20.0), softening_displacement=0.01)
 OPTS = RunOptions(mass_damping=5.0, split_every=10)
 FIELDS = ("x", "v", "stress", "plastic_strain", "internal_force", "group_energy", "ledger",
-          "node_group", "interface_intact", "contact_shear")
+          "node_group", "interface_intact", "contact_shear", "interface_mode",
+          "interface_failure_time")
 
 
 def _column():
@@ -79,7 +80,8 @@ def test_resumed_run_ends_bit_for_bit(reference, tmp_path, stop_at):
         assert solver.steps == (stop_at // 100) * 100  # the last checkpoint's step
         again = _runs(solver)
     for name in FIELDS:
-        assert np.array_equal(getattr(st, name), getattr(ref, name)), name
+        assert np.array_equal(getattr(st, name), getattr(ref, name), equal_nan=True), name
+    assert (~np.isnan(st.interface_failure_time)).sum() == (st.interface_mode > 0).sum() > 0
     assert st.step == ref.step and st.time == ref.time
     for a, b in zip(again, (first, second), strict=True):
         assert (a.stop_reason, a.steps, a.time, a.n_split, a.peak_kinetic) == (
@@ -324,3 +326,18 @@ def test_overwrite_clears_only_an_output_folder_of_hybrid(tmp_path, monkeypatch)
     (run / "frames").mkdir()
     prepare_output_folder(run, overwrite=True)
     assert not any(run.iterdir())
+
+
+def test_a_checkpoint_without_failure_times_resumes_with_none(reference, tmp_path):
+    """A checkpoint written before the failure time of each bond was recorded resumes with
+    none recorded (nan), not with the times the solver's state held before it."""
+    ref, _, _, ref_out = reference
+    with np.load(ref_out / "checkpoint.npz") as saved:
+        older = {k: saved[k] for k in saved.files if k != "interface_failure_time"}
+    np.savez(tmp_path / "older.npz", **older)
+    st = _column()
+    st.interface_failure_time[:] = 7.0
+    with ExplicitSolver(st, OPTS) as solver:
+        solver.restore(tmp_path / "older.npz")
+    assert np.isnan(st.interface_failure_time).all()
+    assert st.interface_mode.any() and not st.interface_intact.all()  # the rest restored

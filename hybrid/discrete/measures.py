@@ -30,7 +30,7 @@ __all__ = ["interface_slip", "slip_surface", "slip_trace", "slipped_interfaces",
            "SlopeMarks", "SlopeMovement", "FootingMarks", "Deposit", "deposit",
            "mean_displacement", "moving_zone_back", "MOVING_FRACTION", "interface_opening",
            "Crack", "crack_from_top", "CrackWatch", "surface_opening", "FailureOnset",
-           "failure_onset", "interfaces_of", "top_interfaces"]
+           "failure_onset", "first_failures", "interfaces_of", "top_interfaces"]
 
 #: The zone that moves with a wall (or a slope face): elements that have moved at least this
 #: fraction of the face's own movement [-]. Small enough to reach the back of the slip, large
@@ -92,12 +92,12 @@ def slipped_interfaces(state: DiscreteState, thresholds: Sequence[float],
     the set on either side.
     """
     slip = interface_slip(state)
+    beside = {name: interfaces_of(state, mask) for name, mask in element_sets.items()}
     out = {}
     for t in thresholds:
-        pairs = state.interface_elements[~state.interface_intact & (slip >= t)]
-        out[f"{t:g}"] = {"interfaces": len(pairs),
-                         **{name: int(mask[pairs].any(axis=1).sum())
-                            for name, mask in element_sets.items()}}
+        slipped = ~state.interface_intact & (slip >= t)
+        out[f"{t:g}"] = {"interfaces": int(slipped.sum()),
+                         **{name: int((slipped & b).sum()) for name, b in beside.items()}}
     return out
 
 
@@ -220,11 +220,19 @@ def surface_opening(state: DiscreteState, column: tuple[float, float], *,
                             top_depth)
 
 
+def _at_top(where: tuple[np.ndarray, np.ndarray, float], top_depth: float) -> np.ndarray:
+    """The interfaces in the column with an end within ``top_depth`` [m] of its top.
+
+    ``where``: :func:`_column_top`'s.
+    """
+    ends, in_column, top = where
+    return in_column & (ends[:, :, 1].max(axis=1) >= top - top_depth)
+
+
 def _surface_opening(state: DiscreteState, where: tuple[np.ndarray, np.ndarray, float],
                      opening: np.ndarray, top_depth: float) -> float:
     """:func:`surface_opening` on :func:`_column_top`'s ``where`` and the openings."""
-    ends, in_column, top = where
-    at_top = ~state.interface_intact & in_column & (ends[:, :, 1].max(axis=1) >= top - top_depth)
+    at_top = ~state.interface_intact & _at_top(where, top_depth)
     return max(float(opening[at_top].max(initial=0.0)), 0.0)
 
 
@@ -254,7 +262,8 @@ def _crack(state: DiscreteState, where: tuple[np.ndarray, np.ndarray, float],
     for i, pair in vertices.items():
         for key in pair:
             by_vertex.setdefault(key, []).append(i)
-    found = {i for i in vertices if ends[i, :, 1].max() >= top - top_depth}
+    at_top = _at_top(where, top_depth)
+    found = {i for i in vertices if at_top[i]}
     todo = list(found)
     while todo:  # grow through shared vertices
         for key in vertices[todo.pop()]:
@@ -376,8 +385,7 @@ def top_interfaces(state: DiscreteState, column: tuple[float, float], *,
     Those in ``column[0] < x < column[1]`` (reference midpoints) [m] with an end within
     ``top_depth`` [m] of the column's highest node, as :func:`surface_opening` takes them.
     """
-    ends, in_column, top = _column_top(state, column)
-    return in_column & (ends[:, :, 1].max(axis=1) >= top - top_depth)
+    return _at_top(_column_top(state, column), top_depth)
 
 
 class FailureOnset(NamedTuple):
@@ -414,7 +422,9 @@ def failure_onset(state: DiscreteState, where: Mapping[str, np.ndarray]
     ``where``: name -> (n_interfaces,) mask (:func:`interfaces_of`, :func:`top_interfaces`).
     From the time and mode the solver recorded at the splitting check that failed each
     interface (``interface_failure_time``, ``interface_mode``): the failure is placed to
-    within one splitting interval (``RunOptions.split_every`` steps).
+    within one splitting interval (``RunOptions.split_every`` steps). The first time is
+    unknown (nan) when none failed in a run, and when one failed in a run without a time
+    (a run resumed from a checkpoint written before times were recorded).
     """
     failed = ~state.interface_intact
     out = {}
@@ -423,13 +433,33 @@ def failure_onset(state: DiscreteState, where: Mapping[str, np.ndarray]
         times = state.interface_failure_time[f]
         modes = state.interface_mode[f]
         recorded = ~np.isnan(times)
-        if not recorded.any():
+        if not recorded.any() or (modes[~recorded] > 0).any():
             out[name] = FailureOnset(math.nan, {}, int(f.sum()), _mode_counts(modes))
             continue
         first = float(times[recorded].min())
         out[name] = FailureOnset(first, _mode_counts(modes[times == first]), int(f.sum()),
                                  _mode_counts(modes))
     return out
+
+
+def first_failures(state: DiscreteState, where: Mapping[str, np.ndarray]
+                   ) -> tuple[float, dict[str, int]]:
+    """The first splitting check that failed a bond: its time and where those bonds lie.
+
+    Returns (time [s], nan when :func:`failure_onset` of all interfaces does not know it;
+    {"interfaces": how many failed at it, each name of ``where`` (interface masks): how many
+    of them lie in that set, "elsewhere": how many in none of the sets}).
+    """
+    everywhere = np.ones(state.interface_intact.shape[0], dtype=bool)
+    first = failure_onset(state, {"": everywhere})[""].first_time
+    at_first = ~state.interface_intact & (state.interface_failure_time == first)  # nan: none
+    inside = np.zeros_like(everywhere, dtype=bool)
+    counts = {"interfaces": int(at_first.sum())}
+    for name, mask in where.items():
+        counts[name] = int((at_first & mask).sum())
+        inside |= np.asarray(mask, dtype=bool)
+    counts["elsewhere"] = int((at_first & ~inside).sum())
+    return first, counts
 
 
 class SlopeMovement(NamedTuple):

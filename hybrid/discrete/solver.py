@@ -629,8 +629,9 @@ class ExplicitSolver:
             raise ValueError(f"checkpoint {path} ran with dt = {fields_['dt']:.6g} s, the "
                              f"options give dt = {self.options.dt:.6g} s: resume with the same "
                              "options")
-        for name, value in fields_.items():
-            setattr(st, name, value)
+        full = DiscreteState(**fields_)  # a field the checkpoint lacks made as on creation
+        for f in fields(DiscreteState):
+            setattr(st, f.name, getattr(full, f.name))
         self.dt = st.dt
         check_distortion(st, self.dt, self.contact)  # as the run it resumes did
         self.steps, self.n_split, self.active_contacts, n_done = (
