@@ -519,6 +519,19 @@ QUOTES: list[Quote] = [
               carsington()["discrete"]["crest_crack_interfaces"]]
      if not carsington()["checks"]["crack_at_crest"]["passed"] and 0.0 < carsington()[
          "discrete"]["crest_crack_during_slide_surface_opening_m"] else [math.nan]),
+    ("docs/carsington.md", "The first check that fails a bond (t = {} s) fails {} bonds: {} "
+     "beside the yellow clay, all in shear, {} at the crest's top, in tension, and {} "
+     "elsewhere (the boot's and the upstream shoulder's first bonds fail at this check too, the "
+     "core's at t = {} s)",
+     lambda: _default_onset()[:5] + [_default_onset_core()]),
+    ("docs/carsington.md", "All {} failed bonds at the crest's top fail in tension; of the "
+     "run's {} failed bonds {} fail in tension, {} in shear and {} as distorted fragments.",
+     lambda: _default_onset()[5:]),
+    ("docs/carsington.md", "In every one of the {} runs with a discrete phase on this page",
+     lambda: _onset_everywhere()[:1]),
+    ("docs/carsington.md", "(its first failed bonds fail in tension, and all of them do in {} "
+     "runs; in the others some fail as softened); the crest's top fails at the first check in "
+     "{} of them and in the others within {} s of it;", lambda: _onset_everywhere()[1:]),
     ("docs/carsington.md", "the upstream shoulder moves upstream, {} m on average, but its toe "
      "does not move",
      lambda: [-carsington()["discrete"]["upstream_shoulder_mean_dx_m"]]
@@ -1271,6 +1284,62 @@ def _cars_discrete(name: str) -> list[float]:
     return [d["toe_runout_m"], d["crest_drop_m"], d["interfaces_failed"], d["time_s"]]
 
 
+def _default_onset() -> list[float]:
+    """Where failure begins in the default run: the first check's time and its bonds (all,
+    beside the yellow clay, at the crest's top, elsewhere); the crest's failed bonds; the
+    run's failed bonds by mode. The words: the yellow clay's bonds at the first check fail
+    in shear, the crest's top fails at it too, all in tension, and the run's bonds fail in
+    tension, shear or as distorted fragments only."""
+    d = carsington()["discrete"]
+    first, onset, modes = d["first_failures"], d["failure_onset"], d["interfaces_failed_by_mode"]
+    assert onset["yellow_clay"]["first_failure_s"] == first["time_s"]
+    assert onset["yellow_clay"]["first_failure_modes"] == {"shear": first["yellow_clay"]}
+    assert onset["crest_top"]["first_failure_s"] == first["time_s"]
+    assert onset["crest_top"]["first_failure_modes"] == {"tension": first["crest_top"]}
+    crest = onset["crest_top"]["failed_by_mode"]
+    assert set(crest) == {"tension"}
+    assert d["interfaces_failed"] == modes["tension"] + modes["shear"] + modes["distorted"]
+    return [first["time_s"], first["interfaces"], first["yellow_clay"], first["crest_top"],
+            first["elsewhere"], crest["tension"], d["interfaces_failed"], modes["tension"],
+            modes["shear"], modes["distorted"]]
+
+
+def _default_onset_core() -> float:
+    """When the core's first bond fails in the default run [s]. The words: the boot's and the
+    upstream shoulder's fail at the first check, the core's later."""
+    onset = carsington()["discrete"]["failure_onset"]
+    first = onset["anywhere"]["first_failure_s"]
+    assert onset["boot"]["first_failure_s"] == first
+    assert onset["upstream_shoulder"]["first_failure_s"] == first
+    assert onset["core"]["first_failure_s"] > first
+    return onset["core"]["first_failure_s"]
+
+
+def _cars_discrete_runs() -> list[dict[str, Any]]:
+    """Every committed Carsington run with a discrete phase."""
+    runs = [json.loads(p.read_text())
+            for p in sorted((ROOT / "docs" / "summaries").glob("carsington*.json"))]
+    return [r for r in runs if "discrete" in r]
+
+
+def _onset_everywhere() -> list[float]:
+    """The runs with a discrete phase, in how many every failed bond at the crest's top fails
+    in tension, in how many the crest's top fails at the first check, the latest it fails
+    after it [s]. The words: in every run the yellow clay's bonds fail at the first check and
+    the crest's first failed bonds fail in tension; its others in tension or as softened."""
+    runs = _cars_discrete_runs()
+    lag, all_tension = [], 0
+    for r in runs:
+        onset, first = r["discrete"]["failure_onset"], r["discrete"]["first_failures"]
+        assert onset["yellow_clay"]["first_failure_s"] == first["time_s"]
+        assert set(onset["crest_top"]["first_failure_modes"]) == {"tension"}
+        modes = set(onset["crest_top"]["failed_by_mode"])
+        assert modes <= {"tension", "softened"}
+        all_tension += modes == {"tension"}
+        lag.append(onset["crest_top"]["first_failure_s"] - first["time_s"])
+    return [len(runs), all_tension, sum(x == 0.0 for x in lag), max(lag)]
+
+
 # the softening analysis (u_r 0.5 m) on the 8, 6, 5, 4, 3, 2.5, 2 and 1.5 m meshes
 SOFT_MESHES = ("carsington_softening_size8", "carsington_softening",
                "carsington_softening_size5", "carsington_softening_size4",
@@ -1585,14 +1654,16 @@ def test_docs_point_inside_the_repository():
 # since the comparisons with the thesis and the observed slide are results the docs report)
 CARSINGTON_KEPT = ("energy_excess_over_sources", "elements_conserved", "mass_conserved",
                    "rest_kinetic_ratio", "rest_drift_ratio", "slip_surface_through_yellow_clay",
-                   "shoulder_moves_upstream")
+                   "shoulder_moves_upstream", "failure_begins_at_crest_or_in_yellow_clay",
+                   "crest_cracks_in_tension")
 
 
 @pytest.mark.parametrize("path", sorted((ROOT / "docs" / "summaries").glob("carsington*.json")),
                          ids=lambda p: p.stem)
 def test_committed_carsington_runs_keep_their_bars(path):
     """Every committed Carsington run with a discrete phase came to rest with bounded energy,
-    its elements and mass kept, sliding on the yellow clay with the shoulder upstream; its
+    its elements and mass kept, sliding on the yellow clay with the shoulder upstream, its
+    failure beginning at the crest's top or in the yellow clay, the crest cracking in tension; its
     construction checks (equilibrium of the lifts, no stress in fill not yet placed) passed."""
     summary = json.loads(path.read_text())
     checks = summary["checks"]
