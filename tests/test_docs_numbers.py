@@ -519,19 +519,20 @@ QUOTES: list[Quote] = [
               carsington()["discrete"]["crest_crack_interfaces"]]
      if not carsington()["checks"]["crack_at_crest"]["passed"] and 0.0 < carsington()[
          "discrete"]["crest_crack_during_slide_surface_opening_m"] else [math.nan]),
-    ("docs/carsington.md", "The first check that fails a bond (t = {} s) fails {} bonds: {} "
-     "beside the yellow clay, all in shear, {} at the crest's top, in tension, and {} "
+    ("docs/carsington.md", "The run's first check (t = {} s, 10 steps after the start) fails "
+     "{} bonds: {} beside the yellow clay, all in shear, {} at the crest's top, in tension, and {} "
      "elsewhere (the boot's and the upstream shoulder's first bonds fail at this check too, the "
      "core's at t = {} s)",
      lambda: _default_onset()[:5] + [_default_onset_core()]),
     ("docs/carsington.md", "All {} failed bonds at the crest's top fail in tension; of the "
      "run's {} failed bonds {} fail in tension, {} in shear and {} as distorted fragments.",
      lambda: _default_onset()[5:]),
-    ("docs/carsington.md", "In every one of the {} runs with a discrete phase on this page",
+    ("docs/carsington.md", "In every one of the {} committed runs with a discrete phase",
      lambda: _onset_everywhere()[:1]),
-    ("docs/carsington.md", "(its first failed bonds fail in tension, and all of them do in {} "
-     "runs; in the others some fail as softened); the crest's top fails at the first check in "
-     "{} of them and in the others within {} s of it;", lambda: _onset_everywhere()[1:]),
+    ("docs/carsington.md", "(all of them do in {} runs; in the others some fail as softened); "
+     "the crest's top fails at the first check in {} of them and in the others within {} s of "
+     "it. The first check also fails {} to {} bonds elsewhere in every run, the core's among "
+     "them in {} runs;", lambda: _onset_everywhere()[1:]),
     ("docs/carsington.md", "the upstream shoulder moves upstream, {} m on average, but its toe "
      "does not move",
      lambda: [-carsington()["discrete"]["upstream_shoulder_mean_dx_m"]]
@@ -1292,6 +1293,8 @@ def _default_onset() -> list[float]:
     tension, shear or as distorted fragments only."""
     d = carsington()["discrete"]
     first, onset, modes = d["first_failures"], d["failure_onset"], d["interfaces_failed_by_mode"]
+    assert math.isclose(first["time_s"], 10 * d["dt_s"], rel_tol=1e-9)  # the run's first check
+    assert first["interfaces"] == first["yellow_clay"] + first["crest_top"] + first["elsewhere"]
     assert onset["yellow_clay"]["first_failure_s"] == first["time_s"]
     assert onset["yellow_clay"]["first_failure_modes"] == {"shear": first["yellow_clay"]}
     assert onset["crest_top"]["first_failure_s"] == first["time_s"]
@@ -1325,19 +1328,32 @@ def _cars_discrete_runs() -> list[dict[str, Any]]:
 def _onset_everywhere() -> list[float]:
     """The runs with a discrete phase, in how many every failed bond at the crest's top fails
     in tension, in how many the crest's top fails at the first check, the latest it fails
-    after it [s]. The words: in every run the yellow clay's bonds fail at the first check and
-    the crest's first failed bonds fail in tension; its others in tension or as softened."""
+    after it [s], the fewest and most bonds the first check fails elsewhere, in how many
+    runs the core's fail at it. The words: in every run the first check that fails a bond is
+    the run's first (10 steps in), the yellow clay's bonds fail at it, the crest's first
+    failed bonds fail in tension (its others in tension or as softened), bonds elsewhere fail
+    at it; in the design-height runs with softening most of its bonds fail as softened."""
     runs = _cars_discrete_runs()
-    lag, all_tension = [], 0
+    lag, elsewhere, all_tension, core = [], [], 0, 0
     for r in runs:
-        onset, first = r["discrete"]["failure_onset"], r["discrete"]["first_failures"]
+        d = r["discrete"]
+        onset, first = d["failure_onset"], d["first_failures"]
+        assert math.isclose(first["time_s"], 10 * d["dt_s"], rel_tol=1e-9)
         assert onset["yellow_clay"]["first_failure_s"] == first["time_s"]
         assert set(onset["crest_top"]["first_failure_modes"]) == {"tension"}
         modes = set(onset["crest_top"]["failed_by_mode"])
         assert modes <= {"tension", "softened"}
         all_tension += modes == {"tension"}
         lag.append(onset["crest_top"]["first_failure_s"] - first["time_s"])
-    return [len(runs), all_tension, sum(x == 0.0 for x in lag), max(lag)]
+        elsewhere.append(first["elsewhere"])
+        core += onset["core"]["first_failure_s"] == first["time_s"]
+        if r["parameters"]["discrete_softening"] and d["start"] == "end of construction " \
+                "(design height)":
+            softened = onset["anywhere"]["first_failure_modes"].get("softened", 0)
+            assert 2 * softened > first["interfaces"], r["out"]
+    assert min(elsewhere) > 0
+    return [len(runs), all_tension, sum(x == 0.0 for x in lag), max(lag), min(elsewhere),
+            max(elsewhere), core]
 
 
 # the softening analysis (u_r 0.5 m) on the 8, 6, 5, 4, 3, 2.5, 2 and 1.5 m meshes
