@@ -45,7 +45,8 @@ Verification (asserted in ``tests/test_carsington.py``)
       ``first_failures``, from the time recorded for each failed interface; how many it fails
       there and elsewhere is reported, and when each zone's first bond failed:
       ``failure_onset``), the crest's first failed bonds failing in tension; at rest,
-      the slip surface
+      how much of the core's upstream face against Zone I has slipped (reported:
+      ``slip_along_core_upstream_face``), the slip surface
       through the yellow clay, the boot and the core above it, the upstream shoulder moving
       upstream, energy bounded, elements and mass kept; a crack from the crest down (failed
       interfaces open >= ``slip_min`` joined to the crest, at any check during the slide:
@@ -101,8 +102,10 @@ from hybrid.discrete.measures import (
     deposit,
     failure_onset,
     first_failures,
+    interfaces_between,
     interfaces_of,
     mean_displacement,
+    slip_along,
     top_interfaces,
 )
 from hybrid.discrete.runs import run_to_rest
@@ -359,6 +362,11 @@ def main(out: str | Path = "results/carsington", **overrides) -> CaseSummary:
         "upstream_shoulder": interfaces_of(disc, zone["upstream_shoulder"]),
         "anywhere": np.ones(disc.interface_elements.shape[0], dtype=bool)})
     first_time, first = first_failures(disc, began)
+    # the core's upstream face against Zone I (reference midpoints upstream of the axis), where
+    # the thesis's large failure surface develops (6.3.2)
+    upstream = disc.x_ref[disc.interface_nodes[:, :2]].mean(axis=1)[:, 0] < 0.0
+    core_face = slip_along(disc, interfaces_between(disc, group == "core", group == "zone_I")
+                           & upstream, p.slip_min)
     front = upstream_front()
     toe_runout = front.runout - front_at_start.runout  # how far the upstream toe advanced
     checks.update({
@@ -392,6 +400,7 @@ def main(out: str | Path = "results/carsington", **overrides) -> CaseSummary:
         "crest_crack_max_slip_m": crack.max_slip, **watch.summary("crest_crack_during_slide"),
         "failure_onset": {name: o.summary() for name, o in onset.items()},
         "first_failures": {"time_s": None if np.isnan(first_time) else first_time, **first},
+        "slip_along_core_upstream_face": core_face,
         "upstream_shoulder_mean_dx_m": shoulder_dx,
         "upstream_toe_dx_m": moved.toe_dx, "crest_drop_m": moved.crest_drop,
         "toe_runout_m": toe_runout, "toe_detached_elements": front.detached,

@@ -202,6 +202,10 @@ def test_carsington_smoke(case, tmp_path):
     assert sum(onset["anywhere"]["failed_by_mode"].values()) == d["interfaces_failed"]
     first = onset["anywhere"]["first_failure_s"]
     assert d["interfaces_failed"] > 0 and first is not None
+    face = d["slip_along_core_upstream_face"]  # the core's upstream face against Zone I
+    assert face["interfaces"] > 0 and face["length_m"] > 0.0
+    assert face["slipped_interfaces"] <= face["interfaces"]
+    assert face["slipped_length_m"] <= face["length_m"] * (1.0 + 1e-12)
     at_first = d["first_failures"]
     assert at_first["time_s"] == first
     assert sum(onset["anywhere"]["first_failure_modes"].values()) == at_first["interfaces"]

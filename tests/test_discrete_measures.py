@@ -17,9 +17,11 @@ from hybrid.discrete.measures import (
     first_failures,
     interface_opening,
     interface_slip,
+    interfaces_between,
     interfaces_of,
     mean_displacement,
     moving_zone_back,
+    slip_along,
     slip_surface,
     slip_trace,
     slipped_interfaces,
@@ -155,6 +157,23 @@ def test_failure_onset_by_interface_set():
     st.interface_mode[:] = 0
     caller = failure_onset(st, {"all": np.ones_like(top)})["all"]
     assert math.isnan(caller.first_time) and caller.failed == 3 and caller.first_modes == {}
+
+
+def test_slip_along_the_face_between_two_zones():
+    """The face between the two columns: its three vertical interfaces, 3 m long; those of
+    the rows pulled apart by 0.2 m slipped (failed, slip >= min_slip), the others not."""
+    st, mid = _column_with_cracks([2, 1])
+    left = st.element_centroids()[:, 0] < 1.0
+    face = interfaces_between(st, left, ~left)
+    assert np.isclose(mid[face, 0], 1.0).all() and face.sum() == 3
+    assert not interfaces_between(st, left, left & ~left).any()  # an empty zone: no face
+    along = slip_along(st, face, 0.1)
+    assert along == pytest.approx({"interfaces": 3, "length_m": 3.0, "slipped_interfaces": 2,
+                                   "slipped_length_m": 2.0, "max_slip_m": 0.2})
+    assert slip_along(st, face, 0.5)["slipped_interfaces"] == 0
+    st.interface_intact[:] = True  # intact: on no slip surface, whatever the separation
+    assert slip_along(st, face, 0.1)["slipped_length_m"] == 0.0
+    assert slip_along(st, face, 0.1)["max_slip_m"] == 0.0
 
 
 def test_slip_trace_is_in_the_start_geometry():

@@ -30,7 +30,8 @@ __all__ = ["interface_slip", "slip_surface", "slip_trace", "slipped_interfaces",
            "SlopeMarks", "SlopeMovement", "FootingMarks", "Deposit", "deposit",
            "mean_displacement", "moving_zone_back", "MOVING_FRACTION", "interface_opening",
            "Crack", "crack_from_top", "CrackWatch", "surface_opening", "FailureOnset",
-           "failure_onset", "first_failures", "interfaces_of", "top_interfaces"]
+           "failure_onset", "first_failures", "interfaces_of", "top_interfaces",
+           "interfaces_between", "slip_along"]
 
 #: The zone that moves with a wall (or a slope face): elements that have moved at least this
 #: fraction of the face's own movement [-]. Small enough to reach the back of the slip, large
@@ -376,6 +377,37 @@ def interfaces_of(state: DiscreteState, elements: np.ndarray) -> np.ndarray:
     ``elements``: an (n_elements,) mask.
     """
     return np.asarray(elements, dtype=bool)[state.interface_elements].any(axis=1)
+
+
+def interfaces_between(state: DiscreteState, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """(n_interfaces,) True for the interfaces between two zones: the face between them.
+
+    An element of ``a`` on one side and one of ``b`` on the other (``a``, ``b``:
+    (n_elements,) masks).
+    """
+    a, b = np.asarray(a, dtype=bool), np.asarray(b, dtype=bool)
+    i, j = state.interface_elements[:, 0], state.interface_elements[:, 1]
+    return (a[i] & b[j]) | (a[j] & b[i])
+
+
+def slip_along(state: DiscreteState, interfaces: np.ndarray, min_slip: float
+               ) -> dict[str, float]:
+    """How much of a line of interfaces (e.g. the face between two zones) has slipped.
+
+    ``interfaces``: (n_interfaces,) mask; ``min_slip``: the slip that puts a failed interface
+    on the slip surface [m] (:func:`slip_surface`). Returns {"interfaces": their number,
+    "length_m": their length in the reference geometry [m], "slipped_interfaces" and
+    "slipped_length_m": those on the slip surface, "max_slip_m": the largest slip of a failed
+    one (0: none failed)}.
+    """
+    mask = np.asarray(interfaces, dtype=bool)
+    ends = state.x_ref[state.interface_nodes[:, :2]]
+    length = np.linalg.norm(ends[:, 1] - ends[:, 0], axis=1)
+    on = mask & slip_surface(state, min_slip)
+    failed = mask & ~state.interface_intact
+    return {"interfaces": int(mask.sum()), "length_m": float(length[mask].sum()),
+            "slipped_interfaces": int(on.sum()), "slipped_length_m": float(length[on].sum()),
+            "max_slip_m": float(interface_slip(state)[failed].max(initial=0.0))}
 
 
 def top_interfaces(state: DiscreteState, column: tuple[float, float], *,
