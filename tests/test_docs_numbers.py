@@ -541,6 +541,21 @@ QUOTES: list[Quote] = [
      "the core above the boot ({},",
      lambda: [carsington()["discrete"][f"slip_surface_{k}"]
               for k in ("yellow_clay", "boot", "core")]),
+    ("docs/carsington.md", "one interface on the core's face; {} % of the core's boundary "
+     "with Zone I upstream slips, by {} m at most (with softening, below: {}-{} %, metres) |",
+     lambda: [_core_face_pct("carsington"), _core_face("carsington")["max_slip_m"],
+              min(_core_face_pct(n) for n in SOFT_MESHES),
+              max(_core_face_pct(n) for n in SOFT_MESHES)]
+     if min(_core_face(n)["max_slip_m"] for n in SOFT_MESHES) > 1.0 else [math.nan]),
+    ("docs/carsington.md", "(the core's face and the boot's top beneath Zone I: {} "
+     "interfaces, {} m long) {} m slipped, by {} m at most;",
+     lambda: [_core_face("carsington")[k] for k in ("interfaces", "length_m",
+                                                     "slipped_length_m", "max_slip_m")]),
+    ("docs/carsington.md", "boot's top beneath Zone I, {} m long; `slip_along_core_upstream_face` "
+     "in the summaries): {}, {}, {}, {}, {}, {}, {} and {} % of its length slipped at least 0.1 m "
+     "on the 8, 6, 5, 4, 3, 2.5, 2 and 1.5 m meshes, by {} to {} m at most. In the default run "
+     "without softening {} % of it ({} m long: the dam a lift higher) slipped, by {} m at most; "
+     "with softening in the discrete phase only {} %.", lambda: _core_face_softening()),
     ("docs/carsington.md", "| default: no mass damping | {} | {} | {} | {} |",
      lambda: _cars_discrete("carsington")),
     ("docs/carsington.md", "| mass damping {} /s | {} | {} | {} | {} |",
@@ -1316,6 +1331,34 @@ def _default_onset_core() -> float:
     assert onset["upstream_shoulder"]["first_failure_s"] == first
     assert onset["core"]["first_failure_s"] > first
     return onset["core"]["first_failure_s"]
+
+
+def _core_face(name: str) -> dict[str, float]:
+    """How much of the core's boundary with Zone I upstream of the axis slipped in a run."""
+    return _json(f"docs/summaries/{name}.json")["discrete"]["slip_along_core_upstream_face"]
+
+
+def _core_face_pct(name: str) -> float:
+    """The share of that boundary's length that slipped [%]."""
+    face = _core_face(name)
+    return 100.0 * face["slipped_length_m"] / face["length_m"]
+
+
+def _core_face_softening() -> list[float]:
+    """That boundary's length on the softening meshes [m] (one figure: they agree within
+    0.5 m), the share slipped on each [%], the least and largest largest slip [m]; the
+    default's share [%], length [m] and largest slip [m]; the discrete softening run's share
+    [%]. The words: at least 66 % slips on every softening mesh."""
+    faces = [_core_face(n) for n in SOFT_MESHES]
+    length = [f["length_m"] for f in faces]
+    assert max(length) - min(length) < 0.5
+    pct = [_core_face_pct(n) for n in SOFT_MESHES]
+    assert min(pct) >= 66.0
+    most = [f["max_slip_m"] for f in faces]
+    default = _core_face("carsington")
+    return [statistics.mean(length), *pct, min(most), max(most), _core_face_pct("carsington"),
+            default["length_m"], default["max_slip_m"],
+            _core_face_pct("carsington_discrete_softening")]
 
 
 def _cars_discrete_runs() -> list[dict[str, Any]]:
