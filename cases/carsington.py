@@ -362,11 +362,10 @@ def main(out: str | Path = "results/carsington", **overrides) -> CaseSummary:
         "upstream_shoulder": interfaces_of(disc, zone["upstream_shoulder"]),
         "anywhere": np.ones(disc.interface_elements.shape[0], dtype=bool)})
     first_time, first = first_failures(disc, began)
-    # the core's upstream face against Zone I (reference midpoints upstream of the axis), where
-    # the thesis's large failure surface develops (6.3.2)
-    upstream = disc.x_ref[disc.interface_nodes[:, :2]].mean(axis=1)[:, 0] < 0.0
-    core_face = slip_along(disc, interfaces_between(disc, group == "core", group == "zone_I")
-                           & upstream, p.slip_min)
+    # the core's boundary with the upstream Zone I, where the thesis's large failure surface
+    # develops (6.3.2)
+    core_face = slip_along(disc, interfaces_between(
+        disc, group == "core", zone["upstream_shoulder"] & (group == "zone_I")), p.slip_min)
     front = upstream_front()
     toe_runout = front.runout - front_at_start.runout  # how far the upstream toe advanced
     checks.update({

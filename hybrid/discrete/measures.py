@@ -23,7 +23,7 @@ import numpy as np
 from hybrid.discrete.ledger import EnergyLedger
 from hybrid.discrete.solver import ExplicitSolver, Observer
 from hybrid.discrete.state import DiscreteState
-from hybrid.discrete.ties import MODE_NAMES
+from hybrid.discrete.ties import mode_counts
 from hybrid.io import Check
 
 __all__ = ["interface_slip", "slip_surface", "slip_trace", "slipped_interfaces", "SlipSurface",
@@ -443,10 +443,6 @@ class FailureOnset(NamedTuple):
                 "failed_by_mode": self.modes}
 
 
-def _mode_counts(modes: np.ndarray) -> dict[str, int]:
-    return {MODE_NAMES[k]: int((modes == k).sum()) for k in np.unique(modes)}
-
-
 def failure_onset(state: DiscreteState, where: Mapping[str, np.ndarray]
                   ) -> dict[str, FailureOnset]:
     """Where and how bonds began to fail: :class:`FailureOnset` of each named interface set.
@@ -466,11 +462,11 @@ def failure_onset(state: DiscreteState, where: Mapping[str, np.ndarray]
         modes = state.interface_mode[f]
         recorded = ~np.isnan(times)
         if not recorded.any() or (modes[~recorded] > 0).any():
-            out[name] = FailureOnset(math.nan, {}, int(f.sum()), _mode_counts(modes))
+            out[name] = FailureOnset(math.nan, {}, int(f.sum()), mode_counts(modes))
             continue
         first = float(times[recorded].min())
-        out[name] = FailureOnset(first, _mode_counts(modes[times == first]), int(f.sum()),
-                                 _mode_counts(modes))
+        out[name] = FailureOnset(first, mode_counts(modes[times == first]), int(f.sum()),
+                                 mode_counts(modes))
     return out
 
 

@@ -67,7 +67,7 @@ import numba  # isort: skip
 __all__ = ["check_interfaces", "split_interfaces", "limit_splitting", "FAIL_TENSION",
            "FAIL_SHEAR", "FAIL_PLASTIC", "FAIL_SOFTENED", "FAIL_DISTORTED", "DISTORTION_LIMIT",
            "CORNER_LIMIT", "stable_step_ratio", "corner_ratio", "mark_fragments",
-           "plastic_cap", "failure_modes", "MODE_NAMES"]
+           "plastic_cap", "failure_modes", "mode_counts", "MODE_NAMES"]
 
 FAIL_TENSION = 1
 FAIL_SHEAR = 2
@@ -333,8 +333,13 @@ def failure_modes(state: DiscreteState) -> dict[str, int]:
     From ``DiscreteState.interface_mode``; "not_recorded" counts those failed other than at
     a run's splitting check (at creation, or by the caller).
     """
-    modes = state.interface_mode[~state.interface_intact]
-    return {name: int((modes == k).sum()) for k, name in enumerate(MODE_NAMES)}
+    return {**dict.fromkeys(MODE_NAMES, 0),
+            **mode_counts(state.interface_mode[~state.interface_intact])}
+
+
+def mode_counts(modes: np.ndarray) -> dict[str, int]:
+    """{name in ``MODE_NAMES``: count} of the modes that occur in ``modes`` (mode numbers)."""
+    return {MODE_NAMES[k]: int((modes == k).sum()) for k in np.unique(modes)}
 
 
 def split_interfaces(state: DiscreteState, failed) -> int:
