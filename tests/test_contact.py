@@ -436,6 +436,43 @@ def test_broad_phase_matches_brute_force_sparse_triangles():
     assert pairs.shape[0] > 100
 
 
+def test_broad_phase_matches_brute_force_on_a_graded_tied_mesh_with_hinges():
+    # A conforming quad mesh of 0.05 m cells graded outwards to about 1 m (as a mesh refined
+    # under a footing), coincident nodes tied except along two lines where the mesh has
+    # failed; hinges=True keeps pairs tied at one vertex. More than 64 elements are 4x the
+    # median, so some large ones go through the grid and cover many cells. Exact agreement
+    # with brute force.
+    grow = 0.05 * 1.3 ** np.arange(1, 13)
+    xs = np.cumsum(np.concatenate([[0.0], np.full(40, 0.05), grow]))
+    ys = np.cumsum(np.concatenate([[0.0], np.full(30, 0.05), grow[:10]]))
+    nx, ny = xs.size - 1, ys.size - 1
+    gx, gy = np.meshgrid(xs, ys)
+    verts = np.stack([gx.ravel(), gy.ravel()], axis=1)
+    vid = np.arange(verts.shape[0]).reshape(ys.size, xs.size)
+    cells = np.array([[vid[j, i], vid[j, i + 1], vid[j + 1, i + 1], vid[j + 1, i]]
+                      for j in range(ny) for i in range(nx)])
+    x = verts[cells].reshape(-1, 2)  # elements own their nodes
+    en = np.arange(x.shape[0], dtype=np.int64).reshape(-1, 4)
+    groups = cells.ravel().astype(np.int64)  # coincident nodes tied
+    cut = (x[:, 0] > xs[12] - 1e-9) & (x[:, 0] < xs[12] + 1e-9)
+    cut |= (x[:, 1] > ys[9] - 1e-9) & (x[:, 1] < ys[9] + 1e-9)
+    groups[cut] = x.shape[0] + np.arange(int(cut.sum()))  # failed along two lines
+    boxes = np.concatenate([x[en].min(axis=1), x[en].max(axis=1)], axis=1)
+    size = (boxes[:, 2:] - boxes[:, :2]).max(axis=1)
+    assert (size > 4 * np.median(size)).sum() > 64
+    for margin in (0.0, 0.02):
+        lo = boxes[:, :2] - margin
+        hi = boxes[:, 2:] + margin
+        ov = np.triu((lo[:, None] <= hi[None]).all(-1) & (lo[None] <= hi[:, None]).all(-1), 1)
+        i, j = np.nonzero(ov)
+        g = groups[en]
+        shared = np.array([len(set(g[a]) & set(g[b])) for a, b in zip(i, j)])
+        expected = np.stack([i[shared <= 1], j[shared <= 1]], axis=1)
+        pairs = find_contact_pairs(x, en, groups, margin, hinges=True)
+        np.testing.assert_array_equal(pairs, expected)
+        assert pairs.shape[0] > en.shape[0]
+
+
 def test_carry_contact_history():
     old_pairs = np.array([[0, 1], [0, 3], [2, 5], [4, 7]])
     old_shear = np.array([[1.0, 2.0], [3.0, 4.0], [5.0, 6.0], [7.0, 8.0]])

@@ -112,7 +112,8 @@ def test_principal_split_matches_shared_point_kernel():
         ev = de[0] + de[1]
         trial = (s0[0] + lam * ev + 2 * G * de[0], s0[1] + lam * ev + 2 * G * de[1],
                  s0[2] + lam * ev, s0[3] + G * de[2])
-        sxx, syy, szz, sxy, dp, y = _mc_update(*trial, K, G, table, 0, 0.0, 1.0)
+        sxx, syy, szz, sxy, dp, y = _mc_update(*trial, K, G, table, 0, 0.0, 1.0,
+                                               np.full((1, 1, 8), np.nan), 0, 0)
         scale = np.max(np.abs(trial)) + c
         np.testing.assert_allclose([sxx, syy, szz, sxy], out, rtol=0, atol=1e-9 * scale)
         assert abs(dp - dp_ref) <= 1e-9 * max(dp_ref, 1e-12) + 1e-15

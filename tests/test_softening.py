@@ -16,9 +16,9 @@ from hybrid.constitutive.mohr_coulomb import (
 )
 from hybrid.constitutive.principal import REGION_NAMES, return_principal
 from hybrid.constitutive.softening import characteristic_length, softening_fraction, strength_at
-from hybrid.constitutive.table import kernel_row, kernel_table
+from hybrid.constitutive.table import RESIDUAL_COHESION, kernel_row, kernel_table
 from hybrid.discrete import integrate, rectangle
-from hybrid.discrete.elements import strain_energy
+from hybrid.discrete.elements import StrengthMemo, strain_energy
 from hybrid.materials import Material, MaterialError, Strength
 
 E, NU = 1.0e4, 0.3
@@ -462,3 +462,41 @@ def test_elements_above_the_snap_back_size_are_warned():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         warn_snap_back(np.array([2.0, 2.5]), np.array([0, 0]), table)
+
+
+# --- the discrete kernel keeps each point's strength while its plastic strain is unchanged ----
+@pytest.mark.parametrize("element", ["Q4", "T3"])
+def test_kept_strengths_give_the_same_stresses_bit_for_bit(element):
+    """``StrengthMemo`` keeps a Gauss point's softened strength between steps (it costs three
+    trigonometric calls to recompute); a run with it must equal a run that recomputes every
+    strength every step, exactly: driven in simple shear through peak and residual (c and phi
+    soften), then held (elastic steps at unchanged plastic strain), then with the residual
+    cohesion changed in the table mid-run (the memo must start afresh)."""
+    m = Material(name="clay", E=E, nu=NU, density=1.0, cohesion=10.0, phi=30.0, psi=5.0,
+                 residual=Strength(cohesion=2.0, phi=15.0), softening_displacement=U_R)
+    runs = []
+    for memo in (StrengthMemo(), None):
+        st = rectangle(1.0, 0.5, 2, 1, element, material=m, gravity=(0.0, 0.0))
+        st.stress[..., :3] = -50.0  # confined: friction matters
+        bottom = np.isclose(st.x_ref[:, 1], 0.0)
+        st.fix(bottom)
+        st.fix(~bottom, velocity=(0.005, 0.0))
+        dt = 0.5 * integrate.stable_time_step(st)
+        integrate.prime(st)
+        kept = []
+        for i in range(9000):
+            if i == 6000:
+                st.fix(~bottom, velocity=(0.0, 0.0))
+            if i == 7500:
+                st.material_table[0, RESIDUAL_COHESION] = 1.0
+                st.fix(~bottom, velocity=(0.005, 0.0))
+            integrate.step(st, dt, memo=memo)
+            if i % 500 == 499:
+                kept.append((st.stress.copy(), st.plastic_strain.copy()))
+        runs.append((st, kept))
+    (a, kept_a), (b, kept_b) = runs
+    xi = [softening_fraction(a.material_table, 0, k, a.element_length[0])
+          for k in a.plastic_strain.ravel()]
+    assert max(xi) == 1.0 and 0.0 < min(xi)  # the run went through softening to residual
+    for (sa, pa), (sb, pb) in zip(kept_a, kept_b):
+        assert np.array_equal(sa, sb) and np.array_equal(pa, pb)

@@ -69,7 +69,8 @@ from hybrid.constitutive.table import (
     TENSION,
 )
 
-__all__ = ["characteristic_length", "softening_fraction", "softening_return", "strength_at",
+__all__ = ["characteristic_length", "softening_fraction", "softening_return",
+           "softening_return_from", "strength_at",
            "add_softening_tangent", "residual_plastic_strain", "snap_back_length",
            "warn_snap_back"]
 
@@ -194,7 +195,24 @@ def softening_return(s1, s2, s3, K, G, table, m, kappa_n, length):
     increment of kappa. A material without softening gives the perfectly plastic return at
     its peak strength.
     """
-    r1, r2, r3, region, q = _return_at(s1, s2, s3, K, G, table, m, kappa_n, length)
+    c, sin_phi, cos_phi, sin_psi, t = strength_at(
+        table, m, softening_fraction(table, m, kappa_n, length))
+    return softening_return_from(s1, s2, s3, K, G, table, m, kappa_n, length, c, sin_phi,
+                                 cos_phi, sin_psi, t)
+
+
+@numba.njit(cache=True)
+def softening_return_from(s1, s2, s3, K, G, table, m, kappa_n, length, c, sin_phi, cos_phi,
+                          sin_psi, t):
+    """``softening_return`` given the strength in force at ``kappa_n`` (``strength_at``).
+
+    For a caller that keeps each point's strength while its ``kappa`` does not change (the
+    discrete element kernel): the result is the same, bit for bit.
+    """
+    r1, r2, r3, region = return_principal(s1, s2, s3, K, G, c, sin_phi, cos_phi, sin_psi, t)
+    q = 0.0
+    if region != REGION_ELASTIC:
+        q = equivalent_plastic_strain(s1 - r1, s2 - r2, s3 - r3, K, G)
     kr = residual_plastic_strain(table, m, length)
     if region == REGION_ELASTIC or kr == np.inf or kappa_n >= kr:
         return r1, r2, r3, region, q

@@ -31,7 +31,7 @@ import numpy as np
 
 import hybrid  # noqa: F401  (sets NUMBA_CACHE_DIR / OMP_WAIT_POLICY before numba loads)
 from hybrid.constitutive.principal import equivalent_plastic_strain, return_principal
-from hybrid.constitutive.softening import softening_return
+from hybrid.constitutive.softening import softening_fraction, softening_return_from, strength_at
 from hybrid.constitutive.table import (
     COHESION,
     COS_PHI,
@@ -44,7 +44,7 @@ from hybrid.discrete.state import DiscreteState
 
 import numba  # isort: skip
 
-__all__ = ["element_forces", "internal_forces", "strain_energy"]
+__all__ = ["element_forces", "internal_forces", "strain_energy", "StrengthMemo"]
 
 # No fastmath, not even {"contract"} (fused multiply-add, ~15 % faster element loop): with
 # numba 0.56 a kernel compiled in this process and the same kernel loaded from the cache gave
@@ -86,12 +86,13 @@ def _rotate(sxx, syy, sxy, c, s):
 
 
 @numba.njit(cache=True, inline="always")
-def _mc_update(txx, tyy, tzz, txy, K, G, material_table, m, kappa, length):
+def _mc_update(txx, tyy, tzz, txy, K, G, material_table, m, kappa, length, memo, e, gp):
     """Mohr-Coulomb correction of the elastic trial stress (tension positive).
 
-    Uses the shared closed-form principal return (``softening_return``: the strength in force
-    at the point's plastic strain ``kappa`` and its element's characteristic ``length``; the
-    peak strength without softening): the in-plane principal pair from p +- sqrt(h^2 + txy^2),
+    Uses the shared closed-form principal return (``softening_return_from``: the strength in
+    force at the point's plastic strain ``kappa`` and its element's characteristic ``length``,
+    kept in ``memo[e, gp]`` while kappa stays the same (``StrengthMemo``); the peak strength
+    without softening): the in-plane principal pair from p +- sqrt(h^2 + txy^2),
     sorted with sigma_zz, returned, and rotated back with the trial eigenvectors
     (cos 2theta = h / rad, sin 2theta = txy / rad: no trigonometry). Scalars only, so that it
     parallelises without reference counting. Returns (sxx, syy, szz, sxy, d_eps_p_eq, yielded)
@@ -109,8 +110,20 @@ def _mc_update(txx, tyy, tzz, txy, K, G, material_table, m, kappa, length):
     else:
         s1, s2, s3 = sa, sb, tzz
     if material_table[m, SOFTENING_DISPLACEMENT] > 0.0:
-        r1, r2, r3, region, deq = softening_return(s1, s2, s3, K, G, material_table, m, kappa,
-                                                   length)
+        if not (memo[e, gp, 0] == kappa and memo[e, gp, 1] == m and memo[e, gp, 2] == length):
+            c, sin_phi, cos_phi, sin_psi, t = strength_at(
+                material_table, m, softening_fraction(material_table, m, kappa, length))
+            memo[e, gp, 0] = kappa
+            memo[e, gp, 1] = m
+            memo[e, gp, 2] = length
+            memo[e, gp, 3] = c
+            memo[e, gp, 4] = sin_phi
+            memo[e, gp, 5] = cos_phi
+            memo[e, gp, 6] = sin_psi
+            memo[e, gp, 7] = t
+        r1, r2, r3, region, deq = softening_return_from(
+            s1, s2, s3, K, G, material_table, m, kappa, length, memo[e, gp, 3], memo[e, gp, 4],
+            memo[e, gp, 5], memo[e, gp, 6], memo[e, gp, 7])
     else:  # perfect plasticity: the closed-form return at the peak strength
         r1, r2, r3, region = return_principal(
             s1, s2, s3, K, G, material_table[m, COHESION], material_table[m, SIN_PHI],
@@ -158,7 +171,7 @@ def _increment_gradient(j11, j12, j21, j22, k11, k12, k21, k22):
 
 @numba.njit(cache=True, inline="always")
 def _point_update(stress, plastic_strain, yielded, e, gp, l12, l21, dexx, deyy, dgxy,
-                  material_table, m, elastic, length, plastic_cap):
+                  material_table, m, elastic, length, plastic_cap, memo):
     """Stress update of Gauss point ``gp`` of element ``e``, written in place.
 
     The objective elastic trial (``_objective_trial``), then the isotropic Mohr-Coulomb
@@ -174,7 +187,7 @@ def _point_update(stress, plastic_strain, yielded, e, gp, l12, l21, dexx, deyy, 
         dexx, deyy, dgxy, lam, G)
     if not elastic and plastic_strain[e, gp] < plastic_cap:
         sxx, syy, szz, sxy, dp, yl = _mc_update(sxx, syy, szz, sxy, K, G, material_table, m,
-                                                plastic_strain[e, gp], length)
+                                                plastic_strain[e, gp], length, memo, e, gp)
         plastic_strain[e, gp] += dp
         yielded[e, gp] = yl
     else:
@@ -188,7 +201,7 @@ def _point_update(stress, plastic_strain, yielded, e, gp, l12, l21, dexx, deyy, 
 
 @numba.njit(cache=True, parallel=True)
 def _q4_kernel(x, v, dt, element_nodes, element_material, material_table, elastic_only,
-               element_length, stress, plastic_strain, yielded, bbar, plastic_cap, force):
+               element_length, stress, plastic_strain, yielded, bbar, plastic_cap, memo, force):
     """Q4 stress update + internal force (module docstring); writes force (n_nodes, 2).
 
     bbar False: plain 2x2 integration of the volumetric part too (locks; for comparison).
@@ -277,7 +290,7 @@ def _q4_kernel(x, v, dt, element_nodes, element_material, material_table, elasti
             dgxy = l12 + l21
             sxx, syy, szz, sxy = _point_update(stress, plastic_strain, yielded, e, gp, l12, l21,
                                                dexx, deyy, dgxy, material_table, m, elastic,
-                                               element_length[e], plastic_cap[e])
+                                               element_length[e], plastic_cap[e], memo)
             # force on the new configuration: det J dN/dx = j22 dNxi - j21 dNeta,
             # det J dN/dy = -j12 dNxi + j11 dNeta
             det = j11 * j22 - j12 * j21
@@ -314,7 +327,7 @@ def _q4_kernel(x, v, dt, element_nodes, element_material, material_table, elasti
 
 @numba.njit(cache=True, parallel=True)
 def _t3_kernel(x, v, dt, element_nodes, element_material, material_table, elastic_only,
-               element_length, stress, plastic_strain, yielded, plastic_cap, force):
+               element_length, stress, plastic_strain, yielded, plastic_cap, memo, force):
     """T3 (one point) stress update + internal force; writes force (n_nodes, 2)."""
     ne = element_nodes.shape[0]
     for e in numba.prange(ne):
@@ -349,7 +362,7 @@ def _t3_kernel(x, v, dt, element_nodes, element_material, material_table, elasti
         dgxy = l12 + l21
         sxx, syy, szz, sxy = _point_update(stress, plastic_strain, yielded, e, 0, l12, l21, dexx,
                                            deyy, dgxy, material_table, m, elastic_only[m],
-                                           element_length[e], plastic_cap[e])
+                                           element_length[e], plastic_cap[e], memo)
         det = j11 * j22 - j12 * j21
         h = 0.5 if det > 0.0 else math.nan
         # A dN_a/dx = (y_{a+1} - y_{a+2}) / 2, A dN_a/dy = (x_{a+2} - x_{a+1}) / 2
@@ -398,9 +411,46 @@ def _strain_energy_kernel(x, element_nodes, element_material, material_table, st
         out[e] = acc * area / ngp
 
 
+@numba.njit(cache=True)
+def _same_table(a, b):
+    """True when two tables of one shape hold the same numbers (nan equal to nan)."""
+    for i in range(a.shape[0]):
+        for j in range(a.shape[1]):
+            if a[i, j] != b[i, j] and not (math.isnan(a[i, j]) and math.isnan(b[i, j])):
+                return False
+    return True
+
+
+class StrengthMemo:
+    """Each Gauss point's strength in force, kept while its plastic strain does not change.
+
+    The softened strength (``strength_at``: three trigonometric calls) is the same function of
+    the point's plastic strain every step; the element kernel recomputes it only where the
+    plastic strain, the element's material row or its characteristic length differ from
+    those it was computed for, so the result is the same bit for bit. ``values`` (n_elements,
+    n_points, 8): [kappa, material row, length, c, sin phi, cos phi, sin psi, t] (nan: not
+    computed). Made once by the caller of a stepping loop (``ExplicitSolver``); ``fit``
+    starts it afresh when the element count or the material table changes.
+    """
+
+    def __init__(self) -> None:
+        self.values = np.empty((0, 0, 8))
+        self._table = np.empty((0, 0))
+
+    def fit(self, n_elements: int, n_points: int, material_table: np.ndarray) -> np.ndarray:
+        """The memo for this mesh and table (reset when either changed)."""
+        if (self.values.shape[:2] != (n_elements, n_points)
+                or self._table.shape != material_table.shape
+                or not _same_table(self._table, material_table)):
+            self.values = np.full((n_elements, n_points, 8), np.nan)
+            self._table = material_table.copy()
+        return self.values
+
+
 def element_forces(x, v, dt, element_nodes, element_material, material_table, elastic_only,
                    element_length, stress, plastic_strain, yielded, force, bbar: bool = True,
-                   plastic_strain_cap: np.ndarray | None = None) -> None:
+                   plastic_strain_cap: np.ndarray | None = None,
+                   memo: StrengthMemo | None = None) -> None:
     """Array-level call of the element kernel (no validation: the engine's hot path).
 
     Updates stress / plastic_strain / yielded for the increment du = dt v and writes the
@@ -410,15 +460,18 @@ def element_forces(x, v, dt, element_nodes, element_material, material_table, el
     residual plastic strain of an element whose softened band has split, and the expert
     option ``RunOptions.plastic_strain_cap``). ``element_length`` (n_elements,) is the
     characteristic length of strain softening [m] (``DiscreteState.element_length``).
+    ``memo``: the points' strengths kept from call to call (``StrengthMemo``; None: computed
+    afresh).
     """
-    cap = (np.full(element_nodes.shape[0], np.inf) if plastic_strain_cap is None
-           else plastic_strain_cap)
+    ne = element_nodes.shape[0]
+    cap = np.full(ne, np.inf) if plastic_strain_cap is None else plastic_strain_cap
+    kept = (memo or StrengthMemo()).fit(ne, stress.shape[1], material_table)
     if element_nodes.shape[1] == 4:
         _q4_kernel(x, v, dt, element_nodes, element_material, material_table, elastic_only,
-                   element_length, stress, plastic_strain, yielded, bbar, cap, force)
+                   element_length, stress, plastic_strain, yielded, bbar, cap, kept, force)
     else:
         _t3_kernel(x, v, dt, element_nodes, element_material, material_table, elastic_only,
-                   element_length, stress, plastic_strain, yielded, cap, force)
+                   element_length, stress, plastic_strain, yielded, cap, kept, force)
 
 
 def internal_forces(state: DiscreteState, dt: float = 0.0, *, bbar: bool = True) -> np.ndarray:

@@ -20,7 +20,7 @@ import math
 import numpy as np
 
 import hybrid  # noqa: F401  (numba environment first)
-from hybrid.discrete.elements import element_forces
+from hybrid.discrete.elements import StrengthMemo, element_forces
 from hybrid.discrete.state import DiscreteState
 
 import numba  # isort: skip
@@ -463,7 +463,8 @@ def prime(state: DiscreteState) -> None:
 def step(state: DiscreteState, dt: float, *, mass_damping: float = 0.0,
          local_damping: float = 0.0, contact_force: np.ndarray | None = None,
          bbar: bool = True, external: bool = True,
-         plastic_strain_cap: float | np.ndarray = math.inf) -> None:
+         plastic_strain_cap: float | np.ndarray = math.inf,
+         memo: StrengthMemo | None = None) -> None:
     """Advance the state by one explicit step of size dt [s].
 
     Hot path: only scalar checks; ``ExplicitSolver`` checks dt against the stable step once.
@@ -473,7 +474,8 @@ def step(state: DiscreteState, dt: float, *, mass_damping: float = 0.0,
     configuration (from ``hybrid.discrete.contact.contact_forces``). ``external=False`` skips
     reading ``state.external_force`` (pass it only when that array is all zero).
     ``plastic_strain_cap``: Gauss points with this much plastic strain respond elastically
-    (one value, or one per element).
+    (one value, or one per element). ``memo``: the Gauss points' strengths kept from step to
+    step by a stepping loop (``elements.StrengthMemo``; the same result, faster).
     """
     if not (dt > 0.0 and math.isfinite(dt)):
         raise ValueError(f"dt = {dt!r}: must be a finite positive time step [s]")
@@ -491,7 +493,7 @@ def step(state: DiscreteState, dt: float, *, mass_damping: float = 0.0,
     element_forces(state.x, state.v, float(dt), state.element_nodes, state.element_material,
                    state.material_table, state.elastic_only, state.element_length,
                    state.stress, state.plastic_strain, state.yielded, state.internal_force,
-                   bbar, _point_caps(plastic_strain_cap, state.element_nodes.shape[0]))
+                   bbar, _point_caps(plastic_strain_cap, state.element_nodes.shape[0]), memo)
     state.time += dt
     state.step += 1
 

@@ -40,6 +40,7 @@ import numpy as np
 from hybrid.constitutive.softening import warn_snap_back
 from hybrid.constitutive.table import SOFTENING_DISPLACEMENT
 from hybrid.discrete import integrate, ties
+from hybrid.discrete.elements import StrengthMemo
 from hybrid.discrete.ledger import EnergyLedger
 from hybrid.discrete.monitor import (
     Monitor,
@@ -232,6 +233,7 @@ class ExplicitSolver:
         """Set up the solver of ``state`` (see the class docstring)."""
         self.state = state
         self.options = o = options if options is not None else RunOptions()
+        self._memo = StrengthMemo()  # the Gauss points' strengths, kept from step to step
         self.observers: list[Observer] = list(observers)
         contact = o.contact
         if contact is None:
@@ -358,7 +360,7 @@ class ExplicitSolver:
         integrate.step(st, dt, mass_damping=o.mass_damping, local_damping=o.local_damping,
                        contact_force=self._cforce if self.contact else None, bbar=o.bbar,
                        external=self._external,
-                       plastic_strain_cap=self._point_cap)
+                       plastic_strain_cap=self._point_cap, memo=self._memo)
         if n_pairs:
             # minus the work of the tangential / damping / elastic normal forces on the
             # mid-step velocity

@@ -2,13 +2,15 @@
 
 The history is carried from one pair list to the next.
 
-Thesis (G. S. Bala 2008) section 4.8.2.  Elements are count-sorted into a uniform grid by
-the centre of their box (grown by ``margin``), with the cell size at least the largest
-grown box, so that a pair of overlapping boxes lies in 3x3 neighbouring cells (Munjiza's
-NBS idea; cost linear in the number of elements).  A few oversized elements (box > 4x the
-median, e.g. one large rigid ground block) are kept out of the grid and checked against all
-elements.  The pair list comes out sorted lexicographically, so that the history of the
-pairs that stay in contact is carried over by one merge of two sorted lists.
+Thesis (G. S. Bala 2008) section 4.8.2.  Each element's box (grown by ``margin``) is entered
+in every cell of a uniform grid that it covers, the cell size about the median box, and a
+pair is tested in the one cell that holds the lower-left corner of the overlap of its two
+boxes (both boxes cover that cell, and no other cell tests the pair): a cell list in the
+spirit of Munjiza's NBS, cost linear in the number of elements however graded the mesh.  A
+few oversized elements (box > 4x the median, e.g. one large rigid ground block) are kept
+out of the grid and checked against all elements.  The pair list comes out sorted
+lexicographically, so that the history of the pairs that stay in contact is carried over by
+one merge of two sorted lists.
 """
 
 from __future__ import annotations
@@ -36,32 +38,46 @@ def _element_boxes(x, element_nodes, margin, boxes):
 
 
 @njit(cache=True)
-def _is_candidate(i, j, boxes, element_nodes, node_group, max_shared):
+def _element_groups(element_nodes, node_group, groups, first):
+    """Each element's tie groups into ``groups`` (n_el, nen), gathered once per call.
+
+    ``first`` marks a vertex whose group is the first of its kind in the element (a rigid
+    platen's group can hold several nodes of one element).
+    """
+    nen = element_nodes.shape[1]
+    for e in range(element_nodes.shape[0]):
+        for k in range(nen):
+            g = node_group[element_nodes[e, k]]
+            groups[e, k] = g
+            first[e, k] = True
+            for kp in range(k):
+                if groups[e, kp] == g:
+                    first[e, k] = False
+                    break
+
+
+@njit(cache=True)
+def _is_candidate(i, j, boxes, groups, first, max_shared):
     """True when the boxes of i and j overlap (inclusive) and the elements share few ties.
 
-    The elements may share at most ``max_shared`` distinct tie groups. Distinct: a group
-    that holds several nodes of one element (a rigid platen, ``DiscreteState.tie_rigidly``)
-    is one tie, so two elements that each touch the platen, at one vertex or along an edge,
-    share one group and stay candidates; counted per node they would share two and could
-    interpenetrate without contact force.
+    The elements may share at most ``max_shared`` distinct tie groups (``groups``, ``first``
+    from ``_element_groups``). Distinct: a group that holds several nodes of one element (a
+    rigid platen, ``DiscreteState.tie_rigidly``) is one tie, so two elements that each touch
+    the platen, at one vertex or along an edge, share one group and stay candidates; counted
+    per node they would share two and could interpenetrate without contact force.
     """
     if boxes[i, 0] > boxes[j, 2] or boxes[j, 0] > boxes[i, 2]:
         return False
     if boxes[i, 1] > boxes[j, 3] or boxes[j, 1] > boxes[i, 3]:
         return False
-    nen = element_nodes.shape[1]
+    nen = groups.shape[1]
     shared = 0
     for ka in range(nen):
-        ga = node_group[element_nodes[i, ka]]
-        seen = False  # ga already counted at an earlier node of i
-        for kp in range(ka):
-            if node_group[element_nodes[i, kp]] == ga:
-                seen = True
-                break
-        if seen:
+        if not first[i, ka]:
             continue
+        ga = groups[i, ka]
         for kb in range(nen):
-            if node_group[element_nodes[j, kb]] == ga:
+            if groups[j, kb] == ga:
                 shared += 1
                 if shared > max_shared:
                     return False
@@ -70,111 +86,135 @@ def _is_candidate(i, j, boxes, element_nodes, node_group, max_shared):
 
 
 @njit(cache=True)
-def _grid_pairs(boxes, element_nodes, node_group, big, h, max_shared):
-    """Candidate pairs (i < j, sorted) by a uniform grid of cell size ``h``.
+def _cell_of(coord, origin, h, n_cells):
+    """Cell of ``coord`` >= ``origin`` on one axis (clamped to ``n_cells - 1``)."""
+    return min(n_cells - 1, int((coord - origin) / h))
 
-    Elements flagged ``big`` bypass the grid and are tested against all others.  ``h`` must
-    be at least the largest box of the other elements.
+
+@njit(cache=True)
+def _cell_range(lo, hi, origin, h, n_cells):
+    """First and last cell of the interval [lo, hi] on one axis."""
+    return _cell_of(lo, origin, h, n_cells), _cell_of(hi, origin, h, n_cells)
+
+
+@njit(cache=True)
+def _cell_list_pairs(boxes, element_nodes, node_group, big, h, max_shared):
+    """Candidate pairs (i < j, sorted lexicographically) by a cell list of cell size ``h``.
+
+    Every element not flagged ``big`` is entered in each cell its box covers; a pair is
+    tested only in the cell of the lower-left corner of its boxes' overlap (both boxes cover
+    it: the cell index is monotone in the coordinate), so each pair is found once. Elements
+    flagged ``big`` bypass the grid and are tested against all others. ``h`` is enlarged
+    when the grid would have more than about four cells per element or the boxes would
+    enter more than sixteen cells per element (any ``h`` > 0 gives the same pairs).
     """
     n = boxes.shape[0]
-    big_ids = np.nonzero(big)[0]
-    n_small = n - big_ids.shape[0]
-    cxmin = np.inf
-    cymin = np.inf
-    cxmax = -np.inf
-    cymax = -np.inf
+    groups = np.empty(element_nodes.shape, dtype=np.int64)
+    first = np.empty(element_nodes.shape, dtype=np.bool_)
+    _element_groups(element_nodes, node_group, groups, first)
+    x0 = np.inf
+    y0 = np.inf
+    x1 = -np.inf
+    y1 = -np.inf
+    n_small = 0
     for e in range(n):
         if big[e]:
             continue
-        cx = 0.5 * (boxes[e, 0] + boxes[e, 2])
-        cy = 0.5 * (boxes[e, 1] + boxes[e, 3])
-        cxmin = min(cxmin, cx)
-        cxmax = max(cxmax, cx)
-        cymin = min(cymin, cy)
-        cymax = max(cymax, cy)
+        n_small += 1
+        x0 = min(x0, boxes[e, 0])
+        y0 = min(y0, boxes[e, 1])
+        x1 = max(x1, boxes[e, 2])
+        y1 = max(y1, boxes[e, 3])
     ncx = 1
     ncy = 1
+    n_entries = n_small
     if n_small > 0:
-        # keep the grid at most ~4 cells per element (a coarser grid stays correct)
         limit = 4.0 * n_small + 16.0
-        span = ((cxmax - cxmin) / h + 1.0) * ((cymax - cymin) / h + 1.0)
+        span = ((x1 - x0) / h + 1.0) * ((y1 - y0) / h + 1.0)
         if span > limit:
             h *= np.sqrt(span / limit)
-        ncx = int((cxmax - cxmin) / h) + 1
-        ncy = int((cymax - cymin) / h) + 1
+        for _ in range(64):
+            ncx = int((x1 - x0) / h) + 1
+            ncy = int((y1 - y0) / h) + 1
+            n_entries = 0
+            for e in range(n):
+                if not big[e]:
+                    ia, ib = _cell_range(boxes[e, 0], boxes[e, 2], x0, h, ncx)
+                    ja, jb = _cell_range(boxes[e, 1], boxes[e, 3], y0, h, ncy)
+                    n_entries += (ib - ia + 1) * (jb - ja + 1)
+            if n_entries <= 16 * n_small:
+                break
+            h *= 2.0
     n_cells = ncx * ncy
-    cell = np.full(n, -1, dtype=np.int64)
-    ix = np.zeros(n, dtype=np.int64)
-    iy = np.zeros(n, dtype=np.int64)
     start = np.zeros(n_cells + 1, dtype=np.int64)
     for e in range(n):
-        if big[e]:
-            continue
-        cx = 0.5 * (boxes[e, 0] + boxes[e, 2])
-        cy = 0.5 * (boxes[e, 1] + boxes[e, 3])
-        ix[e] = min(ncx - 1, int((cx - cxmin) / h))
-        iy[e] = min(ncy - 1, int((cy - cymin) / h))
-        cell[e] = iy[e] * ncx + ix[e]
-        start[cell[e] + 1] += 1
+        if not big[e]:
+            ia, ib = _cell_range(boxes[e, 0], boxes[e, 2], x0, h, ncx)
+            ja, jb = _cell_range(boxes[e, 1], boxes[e, 3], y0, h, ncy)
+            for jy in range(ja, jb + 1):
+                for ix in range(ia, ib + 1):
+                    start[jy * ncx + ix + 1] += 1
     for c in range(n_cells):
         start[c + 1] += start[c]
     fill = start[:-1].copy()
-    members = np.empty(max(n_small, 1), dtype=np.int64)
-    for e in range(n):  # count sort: element ids ascending inside each cell
-        if cell[e] >= 0:
-            members[fill[cell[e]]] = e
-            fill[cell[e]] += 1
+    members = np.empty(max(n_entries, 1), dtype=np.int64)
+    for e in range(n):  # element ids ascending inside each cell
+        if not big[e]:
+            ia, ib = _cell_range(boxes[e, 0], boxes[e, 2], x0, h, ncx)
+            ja, jb = _cell_range(boxes[e, 1], boxes[e, 3], y0, h, ncy)
+            for jy in range(ja, jb + 1):
+                for ix in range(ia, ib + 1):
+                    c = jy * ncx + ix
+                    members[fill[c]] = e
+                    fill[c] += 1
 
     cap = 4 * n + 16
-    out = np.empty((cap, 2), dtype=np.int64)
+    out = np.empty(cap, dtype=np.int64)  # keys i * n + j
     n_out = 0
-    cand = np.empty(n, dtype=np.int64)
-    for i in range(n):
-        k = 0
-        if big[i]:
-            for j in range(i + 1, n):
-                if _is_candidate(i, j, boxes, element_nodes, node_group, max_shared):
-                    cand[k] = j
-                    k += 1
-        else:
-            for dyc in range(-1, 2):
-                cy_ = iy[i] + dyc
-                if cy_ < 0 or cy_ >= ncy:
+    for c in range(n_cells):
+        cx = c % ncx
+        cy = c // ncx
+        for qa in range(start[c], start[c + 1]):
+            i = members[qa]
+            for qb in range(qa + 1, start[c + 1]):
+                j = members[qb]
+                if boxes[i, 0] > boxes[j, 2] or boxes[j, 0] > boxes[i, 2]:
                     continue
-                for dxc in range(-1, 2):
-                    cx_ = ix[i] + dxc
-                    if cx_ < 0 or cx_ >= ncx:
-                        continue
-                    c = cy_ * ncx + cx_
-                    for q in range(start[c], start[c + 1]):
-                        j = members[q]
-                        if j > i and _is_candidate(i, j, boxes, element_nodes, node_group,
-                                                   max_shared):
-                            cand[k] = j
-                            k += 1
-            for q in range(big_ids.shape[0]):
-                j = big_ids[q]
-                if j > i and _is_candidate(i, j, boxes, element_nodes, node_group, max_shared):
-                    cand[k] = j
-                    k += 1
-            # insertion sort of the few candidates of i
-            for u in range(1, k):
-                val = cand[u]
-                w = u - 1
-                while w >= 0 and cand[w] > val:
-                    cand[w + 1] = cand[w]
-                    w -= 1
-                cand[w + 1] = val
-        if n_out + k > cap:
-            cap = 2 * (n_out + k)
-            grown = np.empty((cap, 2), dtype=np.int64)
-            grown[:n_out] = out[:n_out]
-            out = grown
-        for u in range(k):
-            out[n_out, 0] = i
-            out[n_out, 1] = cand[u]
-            n_out += 1
-    return out[:n_out].copy()
+                if boxes[i, 1] > boxes[j, 3] or boxes[j, 1] > boxes[i, 3]:
+                    continue
+                # the overlap's lower-left corner decides the one cell that tests the pair
+                if _cell_of(max(boxes[i, 0], boxes[j, 0]), x0, h, ncx) != cx:
+                    continue
+                if _cell_of(max(boxes[i, 1], boxes[j, 1]), y0, h, ncy) != cy:
+                    continue
+                if _is_candidate(i, j, boxes, groups, first, max_shared):
+                    if n_out == cap:
+                        cap *= 2
+                        grown = np.empty(cap, dtype=np.int64)
+                        grown[:n_out] = out[:n_out]
+                        out = grown
+                    out[n_out] = i * n + j
+                    n_out += 1
+    for i in range(n):
+        if not big[i]:
+            continue
+        for j in range(n):
+            if j == i or (big[j] and j < i):
+                continue
+            if _is_candidate(i, j, boxes, groups, first, max_shared):
+                if n_out == cap:
+                    cap *= 2
+                    grown = np.empty(cap, dtype=np.int64)
+                    grown[:n_out] = out[:n_out]
+                    out = grown
+                out[n_out] = min(i, j) * n + max(i, j)
+                n_out += 1
+    keys = np.sort(out[:n_out])
+    pairs = np.empty((n_out, 2), dtype=np.int64)
+    for p in range(n_out):
+        pairs[p, 0] = keys[p] // n
+        pairs[p, 1] = keys[p] % n
+    return pairs
 
 
 def find_contact_pairs(
@@ -237,13 +277,13 @@ def find_contact_pairs(
     boxes = np.empty((n_el, 4))
     _element_boxes(x, element_nodes, margin, boxes)
     size = np.maximum(boxes[:, 2] - boxes[:, 0], boxes[:, 3] - boxes[:, 1])
-    big = size > _BIG_FACTOR * np.median(size)
+    median = float(np.median(size))
+    big = size > _BIG_FACTOR * median
     if big.sum() > _MAX_BIG:
         big[:] = False
         big[np.argsort(size, kind="stable")[-_MAX_BIG:]] = True
-    h = float(size[~big].max()) if (~big).any() else 1.0
-    h = h * (1.0 + 1e-9) + 1e-300  # round-off guard: overlapping boxes stay in 3x3 cells
-    return _grid_pairs(boxes, element_nodes, node_group, big, h, 1 if hinges else 0)
+    h = median + 1e-300
+    return _cell_list_pairs(boxes, element_nodes, node_group, big, h, 1 if hinges else 0)
 
 
 @njit(cache=True)
