@@ -468,10 +468,11 @@ def test_elements_above_the_snap_back_size_are_warned():
 @pytest.mark.parametrize("element", ["Q4", "T3"])
 def test_kept_strengths_give_the_same_stresses_bit_for_bit(element):
     """``StrengthMemo`` keeps a Gauss point's softened strength between steps (it costs three
-    trigonometric calls to recompute); a run with it must equal a run that recomputes every
-    strength every step, exactly: driven in simple shear through peak and residual (c and phi
-    soften), then held (elastic steps at unchanged plastic strain), then with the residual
-    cohesion changed in the table mid-run (the memo must start afresh)."""
+    trigonometric calls to recompute); a run with it must equal, exactly, a run without it
+    (``softening_return`` every step, computing every strength afresh): driven in simple
+    shear through peak and residual (c and phi soften), then held (elastic steps at
+    unchanged plastic strain), then with the residual cohesion changed in the table mid-run
+    (the memo must start afresh)."""
     m = Material(name="clay", E=E, nu=NU, density=1.0, cohesion=10.0, phi=30.0, psi=5.0,
                  residual=Strength(cohesion=2.0, phi=15.0), softening_displacement=U_R)
     runs = []

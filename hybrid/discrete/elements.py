@@ -13,8 +13,9 @@ One call does, for every element (``prange``, elements own their nodes: no write
    energy into a spinning, vibrating element (x25 in 3 s); this form does not (tested).
 3. constitutive update: linear elastic trial, corrected unless the material is elastic_only by
    the shared closed-form Mohr-Coulomb principal return
-   (``hybrid.constitutive.softening.softening_return``; the spectral split around it is done
-   here without trigonometry or arrays, the same algebra as ``mohr_coulomb_point``);
+   (``hybrid.constitutive.softening.softening_return``, or ``softening_return_from`` with the
+   point's strength kept by ``StrengthMemo``; the spectral split around it is done here
+   without trigonometry or arrays, the same algebra as ``mohr_coulomb_point``);
 4. internal force I_a = sum_gp B_a^T sigma detJ w on the new configuration.
 
 Q4: 2x2 Gauss with B-bar / mean dilatation (Nagtegaal et al. 1974, Hughes 1980): the in-plane
@@ -31,7 +32,12 @@ import numpy as np
 
 import hybrid  # noqa: F401  (sets NUMBA_CACHE_DIR / OMP_WAIT_POLICY before numba loads)
 from hybrid.constitutive.principal import equivalent_plastic_strain, return_principal
-from hybrid.constitutive.softening import softening_fraction, softening_return_from, strength_at
+from hybrid.constitutive.softening import (
+    softening_fraction,
+    softening_return,
+    softening_return_from,
+    strength_at,
+)
 from hybrid.constitutive.table import (
     COHESION,
     COS_PHI,
@@ -91,8 +97,9 @@ def _mc_update(txx, tyy, tzz, txy, K, G, material_table, m, kappa, length, memo,
 
     Uses the shared closed-form principal return (``softening_return_from``: the strength in
     force at the point's plastic strain ``kappa`` and its element's characteristic ``length``,
-    kept in ``memo[e, gp]`` while kappa stays the same (``StrengthMemo``); the peak strength
-    without softening): the in-plane principal pair from p +- sqrt(h^2 + txy^2),
+    kept in ``memo[e, gp]`` while kappa stays the same (``StrengthMemo``; an empty ``memo``:
+    ``softening_return``, computed afresh; the peak strength without softening): the
+    in-plane principal pair from p +- sqrt(h^2 + txy^2),
     sorted with sigma_zz, returned, and rotated back with the trial eigenvectors
     (cos 2theta = h / rad, sin 2theta = txy / rad: no trigonometry). Scalars only, so that it
     parallelises without reference counting. Returns (sxx, syy, szz, sxy, d_eps_p_eq, yielded)
@@ -109,7 +116,10 @@ def _mc_update(txx, tyy, tzz, txy, K, G, material_table, m, kappa, length, memo,
         s1, s2, s3 = sa, tzz, sb
     else:
         s1, s2, s3 = sa, sb, tzz
-    if material_table[m, SOFTENING_DISPLACEMENT] > 0.0:
+    if material_table[m, SOFTENING_DISPLACEMENT] > 0.0 and memo.shape[0] == 0:
+        r1, r2, r3, region, deq = softening_return(s1, s2, s3, K, G, material_table, m, kappa,
+                                                   length)
+    elif material_table[m, SOFTENING_DISPLACEMENT] > 0.0:
         if not (memo[e, gp, 0] == kappa and memo[e, gp, 1] == m and memo[e, gp, 2] == length):
             c, sin_phi, cos_phi, sin_psi, t = strength_at(
                 material_table, m, softening_fraction(material_table, m, kappa, length))
@@ -412,13 +422,16 @@ def _strain_energy_kernel(x, element_nodes, element_material, material_table, st
 
 
 @numba.njit(cache=True)
-def _same_table(a, b):
-    """True when two tables of one shape hold the same numbers (nan equal to nan)."""
+def _same_bits(a, b):
+    """True when two int64 arrays of one shape (a table's bit patterns) are equal."""
     for i in range(a.shape[0]):
         for j in range(a.shape[1]):
-            if a[i, j] != b[i, j] and not (math.isnan(a[i, j]) and math.isnan(b[i, j])):
+            if a[i, j] != b[i, j]:
                 return False
     return True
+
+
+_NO_MEMO = np.empty((0, 0, 8))  # every strength computed afresh
 
 
 class StrengthMemo:
@@ -430,7 +443,8 @@ class StrengthMemo:
     those it was computed for, so the result is the same bit for bit. ``values`` (n_elements,
     n_points, 8): [kappa, material row, length, c, sin phi, cos phi, sin psi, t] (nan: not
     computed). Made once by the caller of a stepping loop (``ExplicitSolver``); ``fit``
-    starts it afresh when the element count or the material table changes.
+    starts it afresh when the element count or the material table changes (bit for bit),
+    and keeps nothing when no material softens.
     """
 
     def __init__(self) -> None:
@@ -441,10 +455,12 @@ class StrengthMemo:
         """The memo for this mesh and table (reset when either changed)."""
         if (self.values.shape[:2] != (n_elements, n_points)
                 or self._table.shape != material_table.shape
-                or not _same_table(self._table, material_table)):
-            self.values = np.full((n_elements, n_points, 8), np.nan)
+                or not _same_bits(self._table.view(np.int64), material_table.view(np.int64))):
             self._table = material_table.copy()
-        return self.values
+            softens = bool(np.any(material_table[:, SOFTENING_DISPLACEMENT] > 0.0))
+            self.values = (np.full((n_elements, n_points, 8), np.nan) if softens
+                           else np.empty((n_elements, n_points, 0)))
+        return self.values if self.values.shape[2] else _NO_MEMO
 
 
 def element_forces(x, v, dt, element_nodes, element_material, material_table, elastic_only,
@@ -465,7 +481,7 @@ def element_forces(x, v, dt, element_nodes, element_material, material_table, el
     """
     ne = element_nodes.shape[0]
     cap = np.full(ne, np.inf) if plastic_strain_cap is None else plastic_strain_cap
-    kept = (memo or StrengthMemo()).fit(ne, stress.shape[1], material_table)
+    kept = _NO_MEMO if memo is None else memo.fit(ne, stress.shape[1], material_table)
     if element_nodes.shape[1] == 4:
         _q4_kernel(x, v, dt, element_nodes, element_material, material_table, elastic_only,
                    element_length, stress, plastic_strain, yielded, bbar, cap, kept, force)

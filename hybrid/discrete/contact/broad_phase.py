@@ -157,7 +157,7 @@ def _cell_list_pairs(boxes, element_nodes, node_group, big, h, max_shared):
     for c in range(n_cells):
         start[c + 1] += start[c]
     fill = start[:-1].copy()
-    members = np.empty(max(n_entries, 1), dtype=np.int64)
+    members = np.empty(max(start[n_cells], 1), dtype=np.int64)
     for e in range(n):  # element ids ascending inside each cell
         if not big[e]:
             ia, ib = _cell_range(boxes[e, 0], boxes[e, 2], x0, h, ncx)
@@ -238,11 +238,11 @@ def find_contact_pairs(
     otherwise interpenetrate with no contact force, and enter contact with a deep overlap
     (a large energy kick) once the last tie goes.  Elements of a
     conforming patch that share one vertex (diagonal neighbours) cannot overlap while the
-    patch is tied, so including them costs only a box test.  Uniform grid broad phase:
-    elements are count-sorted into cells by their box centre, the cell size is the largest
-    grown box, and each element is tested against the 3x3 neighbouring cells (cost linear in
-    the number of elements).  ``bounds = (xmin, ymin, xmax, ymax)`` [m], if given, is the
-    region the elements must stay in.
+    patch is tied, so including them costs only a box test.  Cell-list broad phase (module
+    docstring): each box is entered in every cell of a uniform grid that it covers, the cell
+    about the median box, and a pair is tested in the one cell holding the lower-left corner
+    of the two boxes' overlap (cost linear in the number of elements).  ``bounds = (xmin,
+    ymin, xmax, ymax)`` [m], if given, is the region the elements must stay in.
 
     Every box is grown by ``margin``, so elements closer than ``2 margin`` are candidates:
     ``margin = safety * v_max * refresh * dt`` covers two elements approaching each other at
