@@ -98,6 +98,17 @@ def _cell_range(lo, hi, origin, h, n_cells):
 
 
 @njit(cache=True)
+def _append(out, n_out, key):
+    """``out`` with ``key`` written at ``n_out`` (a copy twice as long when it is full)."""
+    if n_out == out.shape[0]:
+        grown = np.empty(2 * out.shape[0], dtype=np.int64)
+        grown[:n_out] = out[:n_out]
+        out = grown
+    out[n_out] = key
+    return out
+
+
+@njit(cache=True)
 def _cell_list_pairs(boxes, element_nodes, node_group, big, h, max_shared):
     """Candidate pairs (i < j, sorted lexicographically) by a cell list of cell size ``h``.
 
@@ -168,8 +179,7 @@ def _cell_list_pairs(boxes, element_nodes, node_group, big, h, max_shared):
                     members[fill[c]] = e
                     fill[c] += 1
 
-    cap = 4 * n + 16
-    out = np.empty(cap, dtype=np.int64)  # keys i * n + j
+    out = np.empty(4 * n + 16, dtype=np.int64)  # keys i * n + j
     n_out = 0
     for c in range(n_cells):
         cx = c % ncx
@@ -188,12 +198,7 @@ def _cell_list_pairs(boxes, element_nodes, node_group, big, h, max_shared):
                 if _cell_of(max(boxes[i, 1], boxes[j, 1]), y0, h, ncy) != cy:
                     continue
                 if _is_candidate(i, j, boxes, groups, first, max_shared):
-                    if n_out == cap:
-                        cap *= 2
-                        grown = np.empty(cap, dtype=np.int64)
-                        grown[:n_out] = out[:n_out]
-                        out = grown
-                    out[n_out] = i * n + j
+                    out = _append(out, n_out, i * n + j)
                     n_out += 1
     for i in range(n):
         if not big[i]:
@@ -202,12 +207,7 @@ def _cell_list_pairs(boxes, element_nodes, node_group, big, h, max_shared):
             if j == i or (big[j] and j < i):
                 continue
             if _is_candidate(i, j, boxes, groups, first, max_shared):
-                if n_out == cap:
-                    cap *= 2
-                    grown = np.empty(cap, dtype=np.int64)
-                    grown[:n_out] = out[:n_out]
-                    out = grown
-                out[n_out] = min(i, j) * n + max(i, j)
+                out = _append(out, n_out, min(i, j) * n + max(i, j))
                 n_out += 1
     keys = np.sort(out[:n_out])
     pairs = np.empty((n_out, 2), dtype=np.int64)
