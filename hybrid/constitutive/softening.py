@@ -179,6 +179,15 @@ def _return_at(s1, s2, s3, K, G, table, m, kappa, length):
     """
     c, sin_phi, cos_phi, sin_psi, t = strength_at(
         table, m, softening_fraction(table, m, kappa, length))
+    return _return_with(s1, s2, s3, K, G, c, sin_phi, cos_phi, sin_psi, t)
+
+
+@numba.njit(cache=True)
+def _return_with(s1, s2, s3, K, G, c, sin_phi, cos_phi, sin_psi, t):
+    """Return of the trial (s1, s2, s3) at the strength (c, phi, psi, t) given.
+
+    Returns (r1, r2, r3, region, q) with q the equivalent plastic strain of the return.
+    """
     r1, r2, r3, region = return_principal(s1, s2, s3, K, G, c, sin_phi, cos_phi, sin_psi, t)
     if region == REGION_ELASTIC:
         return r1, r2, r3, region, 0.0
@@ -209,10 +218,7 @@ def softening_return_from(s1, s2, s3, K, G, table, m, kappa_n, length, c, sin_ph
     For a caller that keeps each point's strength while its ``kappa`` does not change (the
     discrete element kernel): the result is the same, bit for bit.
     """
-    r1, r2, r3, region = return_principal(s1, s2, s3, K, G, c, sin_phi, cos_phi, sin_psi, t)
-    q = 0.0
-    if region != REGION_ELASTIC:
-        q = equivalent_plastic_strain(s1 - r1, s2 - r2, s3 - r3, K, G)
+    r1, r2, r3, region, q = _return_with(s1, s2, s3, K, G, c, sin_phi, cos_phi, sin_psi, t)
     kr = residual_plastic_strain(table, m, length)
     if region == REGION_ELASTIC or kr == np.inf or kappa_n >= kr:
         return r1, r2, r3, region, q

@@ -116,24 +116,26 @@ def _mc_update(txx, tyy, tzz, txy, K, G, material_table, m, kappa, length, memo,
         s1, s2, s3 = sa, tzz, sb
     else:
         s1, s2, s3 = sa, sb, tzz
-    if material_table[m, SOFTENING_DISPLACEMENT] > 0.0 and memo.shape[0] == 0:
-        r1, r2, r3, region, deq = softening_return(s1, s2, s3, K, G, material_table, m, kappa,
-                                                   length)
-    elif material_table[m, SOFTENING_DISPLACEMENT] > 0.0:
-        if not (memo[e, gp, 0] == kappa and memo[e, gp, 1] == m and memo[e, gp, 2] == length):
-            c, sin_phi, cos_phi, sin_psi, t = strength_at(
-                material_table, m, softening_fraction(material_table, m, kappa, length))
-            memo[e, gp, 0] = kappa
-            memo[e, gp, 1] = m
-            memo[e, gp, 2] = length
-            memo[e, gp, 3] = c
-            memo[e, gp, 4] = sin_phi
-            memo[e, gp, 5] = cos_phi
-            memo[e, gp, 6] = sin_psi
-            memo[e, gp, 7] = t
-        r1, r2, r3, region, deq = softening_return_from(
-            s1, s2, s3, K, G, material_table, m, kappa, length, memo[e, gp, 3], memo[e, gp, 4],
-            memo[e, gp, 5], memo[e, gp, 6], memo[e, gp, 7])
+    if material_table[m, SOFTENING_DISPLACEMENT] > 0.0:
+        if memo.shape[0] == 0:
+            r1, r2, r3, region, deq = softening_return(s1, s2, s3, K, G, material_table, m,
+                                                       kappa, length)
+        else:
+            if not (memo[e, gp, 0] == kappa and memo[e, gp, 1] == m
+                    and memo[e, gp, 2] == length):
+                c, sin_phi, cos_phi, sin_psi, t = strength_at(
+                    material_table, m, softening_fraction(material_table, m, kappa, length))
+                memo[e, gp, 0] = kappa
+                memo[e, gp, 1] = m
+                memo[e, gp, 2] = length
+                memo[e, gp, 3] = c
+                memo[e, gp, 4] = sin_phi
+                memo[e, gp, 5] = cos_phi
+                memo[e, gp, 6] = sin_psi
+                memo[e, gp, 7] = t
+            r1, r2, r3, region, deq = softening_return_from(
+                s1, s2, s3, K, G, material_table, m, kappa, length, memo[e, gp, 3],
+                memo[e, gp, 4], memo[e, gp, 5], memo[e, gp, 6], memo[e, gp, 7])
     else:  # perfect plasticity: the closed-form return at the peak strength
         r1, r2, r3, region = return_principal(
             s1, s2, s3, K, G, material_table[m, COHESION], material_table[m, SIN_PHI],
