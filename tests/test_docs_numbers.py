@@ -577,7 +577,7 @@ QUOTES: list[Quote] = [
               carsington()["factor_of_safety"]["wall_time_s"],
               carsington()["discrete"]["phase_wall_time_s"]]),
     ("docs/carsington.md", "| from the design height ({} m of yellow clay: the section stands "
-     "to the crest) | {} | {} | {} | {} |",
+     "to the crest in whole lifts) | {} | {} | {} | {} |",
      lambda: [_json("docs/summaries/carsington_design_height.json")["parameters"][
          "yellow_clay_length"], *_cars_discrete("carsington_design_height")]),
     ("docs/carsington.md", "| 6 | {} | {} | {} | {} | no | {} |\n"
@@ -622,6 +622,11 @@ QUOTES: list[Quote] = [
      "**{} m OD**, collapse in the last lift; in {} m lifts, collapse at {} m OD",
      lambda: [carsington()["construction"]["fill_level_m_od"], _cars_collapse()[0],
               _cars_collapse()[4]]),
+    ("docs/carsington.md", "in 0.5 m parts with the yellow clay {} m long instead of {} m, "
+     "collapse at {} and {} m OD on those meshes, and with {} m none", lambda: [
+         _yellow_clay_length("carsington_parts_size3_Y30"), _yellow_clay_length("carsington"),
+         *(_sensitivity_row(f"carsington_parts_size{n}_Y30")[2] for n in (3, 2)),
+         *[_yellow_clay_length("carsington_parts_size3_Y20")] * _stands_on_both("_Y20")]),
     ("docs/carsington.md", "| 6 (default) | {} | {} | lift {} (to {}), {} % | {} | {} |\n"
      "| 3 | {} | {} | lift {} (to {}), {} % | {} | {} |\n| 2 | {} | {} | lift {} (to {}), {} % | "
      "{} | {} |", lambda: [v for n in ("carsington", "carsington_size3", "carsington_size2")
@@ -648,6 +653,76 @@ QUOTES: list[Quote] = [
     ("docs/carsington.md", "grows by {} m in the part to {} m OD and by {} m in the part to {} m "
      "OD", lambda: [v for top in (194.5, 198.5) for v in (
          _part_growth("carsington_parts_size6", top), top)]),
+    # the fill level against the yellow clay's extent (docs-carsington-sensitivity): one row
+    # per run, "-" where the run has no such figure (no collapse; node A not reached)
+    *[("docs/carsington.md", f"| {label} | {size} | {row}",
+       lambda name=f"carsington_parts_size{size}{tail}", change=change: _sensitivity_row(
+           name, change))
+      for label, tail, change, row in (
+          ("20 m long", "_Y20", {"yellow_clay_length": 20.0}, "{} | {} | - | {} | {} |"),
+          ("25 m long", "_Y25", {"yellow_clay_length": 25.0}, "{} | {} | - | {} | {} |"),
+          ("30 m long", "_Y30", {"yellow_clay_length": 30.0}, "{} | {} | {} | {} | - |"),
+          ("36 m long (default)", "", {}, "{} | {} | {} | - | - |"),
+          ("50 m long", "_Y50", {"yellow_clay_length": 50.0, "parts_above": 182.0},
+           "{} | {} | {} | - | - |"))
+      for size in (3, 2)],
+    *[("docs/carsington.md", f"| {t} m thick | 3 | {{}} | {{}} | {{}} | - | - |",
+       lambda name=f"carsington_parts_size3_T{t}", t=t: _sensitivity_row(
+           name, {"yellow_clay_thickness": float(t)}))
+      for t in ("1.0", "2.0")],
+    ("docs/carsington.md", "{} or {} m long, the layer lets the section stand to the design "
+     "crest on both meshes", lambda: [_yellow_clay_length(f"carsington_parts_size3_Y{y}")
+                                      for y in (20, 25) if _stands_on_both(f"_Y{y}")]),
+    ("docs/carsington.md", "{} m long, the section carries the fill to {} m OD on both and fails "
+     "in the part above, at {} and {} m OD (3 and 2 m meshes)", lambda: [
+         _yellow_clay_length("carsington_parts_size3_Y30"),
+         *{_sensitivity_row(f"carsington_parts_size{n}_Y30")[1] for n in (3, 2)},
+         *(_sensitivity_row(f"carsington_parts_size{n}_Y30")[2] for n in (3, 2))]),
+    ("docs/carsington.md", "{} m long (the default), at {} and {} m OD", lambda: [
+        _yellow_clay_length("carsington_parts_size3"),
+        *(_sensitivity_row(f"carsington_parts_size{n}")[2] for n in (3, 2))]),
+    ("docs/carsington.md", "{} m long, it carries {} m OD on both and fails at {} and {} m OD",
+     lambda: [_yellow_clay_length("carsington_parts_size3_Y50"),
+              *{_sensitivity_row(f"carsington_parts_size{n}_Y50")[1] for n in (3, 2)},
+              *(_sensitivity_row(f"carsington_parts_size{n}_Y50")[2] for n in (3, 2))]),
+    ("docs/carsington.md", "Between {} and {} m the collapse level falls on average by {} m for "
+     "each metre "
+     "of layer (3 m mesh)", lambda: [
+         _yellow_clay_length("carsington_parts_size3_Y30"),
+         _yellow_clay_length("carsington_parts_size3"),
+         (_sensitivity_row("carsington_parts_size3_Y30")[2]
+          - _sensitivity_row("carsington_parts_size3")[2])
+         / (_yellow_clay_length("carsington_parts_size3")
+            - _yellow_clay_length("carsington_parts_size3_Y30"))]),
+    ("docs/carsington.md", "({}, {} and {} m OD for a layer {}, {} and {} m thick on the 3 m mesh",
+     lambda: [*(_sensitivity_row(f"carsington_parts_size3{t}")[2]
+                for t in ("_T1.0", "", "_T2.0")),
+              *(_json(f"docs/summaries/carsington_parts_size3{t}.json")["parameters"][
+                  "yellow_clay_thickness"] for t in ("_T1.0", "", "_T2.0"))]),
+    ("docs/carsington.md", "node A moves {} to {} mm at 198 m OD and {} to {} mm at 200.5 m OD",
+     lambda: [f(_sensitivity_row(f"carsington_parts_size{n}_Y{y}")[k]
+                for n in (3, 2) for y in (20, 25))
+              for k in (2, 3) for f in (min, max)]),
+    ("docs/carsington.md", "its length decides the fill level; its thickness moves it by up to "
+     "{} m", lambda: [_thickness_spread()]),
+    ("docs/carsington.md", "Over the published thickness the collapse level moves by up to {} m",
+     lambda: [_thickness_spread()]),
+    ("docs/carsington.md", "A {} m layer puts the collapse within {} m of the observed {} m OD",
+     lambda: [_yellow_clay_length("carsington_parts_size3_Y30"),
+              max(abs(_sensitivity_row(f"carsington_parts_size{n}_Y30")[2] - OBSERVED_SLIP)
+                  for n in (3, 2)), OBSERVED_SLIP]),
+    ("docs/carsington.md", "the finer mesh gives the smaller figure in each of the {} pairs of the "
+     "table's node A columns", lambda: _finer_smaller_node_a()),
+    ("docs/carsington.md", "with the {} m layer node A moves back upstream from 198 to 200.5 m OD "
+     "on both meshes", lambda: [_yellow_clay_length("carsington_parts_size3_Y25")] * all(
+         _node_a_at(f"carsington_parts_size{n}_Y25", 200.5)
+         < _node_a_at(f"carsington_parts_size{n}_Y25", 198.0) for n in (3, 2))),
+    ("docs/carsington.md", "the section stands to the design crest with up to {} m of yellow clay "
+     "and with none of {} m or more", lambda: [
+         _yellow_clay_length(f"carsington_parts_size3{t}") for t in ("_Y25", "_Y30")] * (
+         _stands_on_both("_Y20") and _stands_on_both("_Y25")
+         and not any(_json(f"docs/summaries/carsington_parts_size{n}{t}.json")["construction"][
+             "completed"] for n in (3, 2) for t in ("_Y30", "", "_Y50")))),
     ("docs/carsington.md", "The coarser meshes overstate it ({} m OD on the 6 m mesh)",
      lambda: [_parts_row(PARTS_MESHES[0])[5]]),
     ("docs/carsington.md", "the 3 m mesh then stops at {} % of the part's weight against {} %",
@@ -1455,6 +1530,59 @@ def _parts_row(name: str) -> list[float]:
     return [d["parameters"]["size"], d["mesh"]["cells"], c["fill_level_m_od"], lift["top_m_OD"],
             100.0 * lift["weight_carried"], c["stages"][-1]["fill_level_m_OD"],
             lift["runaway_ratio"], node_a[190.0]]
+
+
+def _yellow_clay_length(name: str) -> float:
+    return _json(f"docs/summaries/{name}.json")["parameters"]["yellow_clay_length"]
+
+
+def _stands_on_both(tail: str) -> bool:
+    """The sensitivity run ``tail`` placed every part on the 3 and the 2 m mesh."""
+    return all(_json(f"docs/summaries/carsington_parts_size{n}{tail}.json")["construction"][
+        "completed"] for n in (3, 2))
+
+
+#: the fill level at which Carsington slipped [m OD] (Skempton & Vaughan 1993)
+OBSERVED_SLIP = 199.5
+
+
+def _node_a_at(name: str, level: float) -> float:
+    return dict(map(tuple, _json(f"docs/summaries/{name}.json")["core_displacement_mm"][
+        "by_fill_level"]))[level]
+
+
+def _thickness_spread() -> float:
+    """The collapse levels' spread [m] over the yellow clay 1.0, 1.5 and 2.0 m thick (3 m mesh)."""
+    levels = [_sensitivity_row(f"carsington_parts_size3{t}")[2] for t in ("_T1.0", "", "_T2.0")]
+    return max(levels) - min(levels)
+
+
+def _finer_smaller_node_a() -> list[int]:
+    """The number of (3 m, 2 m) pairs of node A figures in the sensitivity table, if the 2 m
+    mesh's is the smaller in every pair (else nothing: the claim fails)."""
+    pairs = [(_node_a_at(f"carsington_parts_size3{t}", z), _node_a_at(
+        f"carsington_parts_size2{t}", z)) for t in ("_Y20", "_Y25", "_Y30") for z in (198.0, 200.5)
+        if all(z in dict(map(tuple, _json(f"docs/summaries/carsington_parts_size{n}{t}.json")[
+            "core_displacement_mm"]["by_fill_level"])) for n in (3, 2))]
+    return [len(pairs)] * all(fine < coarse for coarse, fine in pairs)
+
+
+def _sensitivity_row(name: str, change: dict[str, float] | None = None) -> list[float]:
+    """Cells, fill level carried, the level at the weight carried in the collapsing part (if one
+    collapsed) and node A at 198 and 200.5 m OD [mm] (where the fill reached them). With
+    ``change``: first checked to be the run of the same size (``carsington_parts_size<n>``)
+    with these parameters changed and no other."""
+    d = _json(f"docs/summaries/{name}.json")
+    if change is not None:
+        base = _json(f"docs/summaries/carsington_parts_size{d['parameters']['size']:g}.json")
+        differ = {k: v for k, v in d["parameters"].items() if base["parameters"].get(k) != v
+                  and k != "progress"}
+        if differ != change:
+            raise ValueError(f"{name}: parameters {differ} changed, the table says {change}")
+    c, node_a = d["construction"], dict(map(tuple, d["core_displacement_mm"]["by_fill_level"]))
+    collapse = [c["stages"][-1]["fill_level_m_OD"]] if c["collapsing_lift"] else []
+    return [d["mesh"]["cells"], c["fill_level_m_od"], *collapse,
+            *(node_a[z] for z in (198.0, 200.5) if z in node_a)]
 
 
 def _part_growth(name: str, top: float) -> float:
