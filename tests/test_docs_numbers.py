@@ -506,6 +506,13 @@ QUOTES: list[Quote] = [
               100 * carsington()["construction"]["collapsing_lift"]["weight_carried"]]),
     ("docs/carsington.md", "| core at node A, 198 m OD | about 150 mm | {} mm ({} mm at 190 m OD)",
      lambda: [carsington()["core_displacement_mm"]["198"], _cars_stage(3)["node_A_dx_mm"]]),
+    *[("docs/carsington.md", f"{before}; with the yellow clay {{}} or {{}} m long, {{}} to {{}} mm "
+       "(Sensitivity) |",
+       lambda level=level: [
+           *(_yellow_clay_length(f"carsington_parts_size3_Y{y}") for y in (20, 25)),
+           *(f(_node_a_at(f"carsington_parts_size{n}_Y{y}", level) for n in (3, 2)
+               for y in (20, 25)) for f in (min, max))])
+      for level, before in ((198.0, "mm at 190 m OD)"), (200.5, "| 400-450 mm | not reached"))],
     ("docs/carsington.md", "Default run: rest at t = {} s; {} interfaces failed;",
      lambda: [carsington()["discrete"]["time_s"], carsington()["discrete"]["interfaces_failed"]]),
     ("docs/carsington.md", "at least {} m (a crack, not a slip surface sliding closed), joined "
