@@ -256,9 +256,9 @@ docs-carsington-sensitivity: setup
 # Carsington's slide: beyond the thesis, strain softening (u_r 0.5 m; 0.2 and 1 m; 0.5 m on 8,
 # 5, 4, 3, 2.5, 2 and 1.5 m elements); softening in the discrete phase only (the dam built at
 # Table 6.3's peak strengths); from the design height (the section with 30 m of yellow clay
-# stands to the crest with Table 6.3 in whole lifts), its discrete phase as it is and with softening (on 6,
-# 4, 3 and 2 m elements); the discrete phase's sensitivity to mass damping (default none; the
-# thesis ran 3 /s)
+# stands to the crest with Table 6.3 in whole lifts), its discrete phase as it is and with
+# softening (on 6, 4, 3 and 2 m elements); the discrete phase's sensitivity to mass damping
+# (default none; the thesis ran 3 /s)
 docs-carsington-slide: setup
 	mkdir -p docs/summaries docs/figures/carsington
 	for run in "softening 0.5 6" "softening_ur0.2 0.2 6" "softening_ur1 1.0 6" \
