@@ -693,8 +693,7 @@ QUOTES: list[Quote] = [
               *{_sensitivity_row(f"carsington_parts_size{n}_Y50")[1] for n in (3, 2)},
               *(_sensitivity_row(f"carsington_parts_size{n}_Y50")[2] for n in (3, 2))]),
     ("docs/carsington.md", "Between {} and {} m the collapse level falls on average by {} m for "
-     "each metre "
-     "of layer (3 m mesh)", lambda: [
+     "each metre of layer (3 m mesh)", lambda: [
          _yellow_clay_length("carsington_parts_size3_Y30"),
          _yellow_clay_length("carsington_parts_size3"),
          (_sensitivity_row("carsington_parts_size3_Y30")[2]
@@ -728,8 +727,8 @@ QUOTES: list[Quote] = [
      "and with none of {} m or more", lambda: [
          _yellow_clay_length(f"carsington_parts_size3{t}") for t in ("_Y25", "_Y30")] * (
          _stands_on_both("_Y20") and _stands_on_both("_Y25")
-         and not any(_json(f"docs/summaries/carsington_parts_size{n}{t}.json")["construction"][
-             "completed"] for n in (3, 2) for t in ("_Y30", "", "_Y50")))),
+         and not any(_completed(f"carsington_parts_size{n}{t}") for n in (3, 2)
+                     for t in ("_Y30", "", "_Y50")))),
     ("docs/carsington.md", "The coarser meshes overstate it ({} m OD on the 6 m mesh)",
      lambda: [_parts_row(PARTS_MESHES[0])[5]]),
     ("docs/carsington.md", "the 3 m mesh then stops at {} % of the part's weight against {} %",
@@ -1543,19 +1542,28 @@ def _yellow_clay_length(name: str) -> float:
     return _json(f"docs/summaries/{name}.json")["parameters"]["yellow_clay_length"]
 
 
+def _completed(name: str) -> bool:
+    """The Carsington run ``name`` placed every lift (or part) to the crest."""
+    return _json(f"docs/summaries/{name}.json")["construction"]["completed"]
+
+
 def _stands_on_both(tail: str) -> bool:
     """The sensitivity run ``tail`` placed every part on the 3 and the 2 m mesh."""
-    return all(_json(f"docs/summaries/carsington_parts_size{n}{tail}.json")["construction"][
-        "completed"] for n in (3, 2))
+    return all(_completed(f"carsington_parts_size{n}{tail}") for n in (3, 2))
 
 
 #: the fill level at which Carsington slipped [m OD] (Skempton & Vaughan 1993)
 OBSERVED_SLIP = 199.5
 
 
-def _node_a_at(name: str, level: float) -> float:
+def _node_a_by_level(name: str) -> dict[float, float]:
+    """Node A's horizontal displacement [mm] of a Carsington run at each fill level [m OD]."""
     return dict(map(tuple, _json(f"docs/summaries/{name}.json")["core_displacement_mm"][
-        "by_fill_level"]))[level]
+        "by_fill_level"]))
+
+
+def _node_a_at(name: str, level: float) -> float:
+    return _node_a_by_level(name)[level]
 
 
 def _thickness_spread() -> float:
@@ -1569,8 +1577,7 @@ def _finer_smaller_node_a() -> list[int]:
     mesh's is the smaller in every pair (else nothing: the claim fails)."""
     pairs = [(_node_a_at(f"carsington_parts_size3{t}", z), _node_a_at(
         f"carsington_parts_size2{t}", z)) for t in ("_Y20", "_Y25", "_Y30") for z in (198.0, 200.5)
-        if all(z in dict(map(tuple, _json(f"docs/summaries/carsington_parts_size{n}{t}.json")[
-            "core_displacement_mm"]["by_fill_level"])) for n in (3, 2))]
+        if all(z in _node_a_by_level(f"carsington_parts_size{n}{t}") for n in (3, 2))]
     return [len(pairs)] * all(fine < coarse for coarse, fine in pairs)
 
 
@@ -1586,7 +1593,7 @@ def _sensitivity_row(name: str, change: dict[str, float] | None = None) -> list[
                   and k != "progress"}
         if differ != change:
             raise ValueError(f"{name}: parameters {differ} changed, the table says {change}")
-    c, node_a = d["construction"], dict(map(tuple, d["core_displacement_mm"]["by_fill_level"]))
+    c, node_a = d["construction"], _node_a_by_level(name)
     collapse = [c["stages"][-1]["fill_level_m_OD"]] if c["collapsing_lift"] else []
     return [d["mesh"]["cells"], c["fill_level_m_od"], *collapse,
             *(node_a[z] for z in (198.0, 200.5) if z in node_a)]
