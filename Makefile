@@ -257,8 +257,9 @@ docs-carsington-sensitivity: setup
 # 5, 4, 3, 2.5, 2 and 1.5 m elements); softening in the discrete phase only (the dam built at
 # Table 6.3's peak strengths); from the design height (the section with 30 m of yellow clay
 # stands to the crest with Table 6.3 in whole lifts), its discrete phase as it is and with
-# softening (on 6, 4, 3 and 2 m elements); the discrete phase's sensitivity to mass damping
-# (default none; the thesis ran 3 /s)
+# softening (on 6, 4, 3 and 2 m elements), and with 25 m of yellow clay and the fill in parts
+# (the section stands to the crest on the 4, 3 and 2 m meshes); the discrete phase's
+# sensitivity to mass damping (default none; the thesis ran 3 /s)
 docs-carsington-slide: setup
 	mkdir -p docs/summaries docs/figures/carsington
 	for run in "softening 0.5 6" "softening_ur0.2 0.2 6" "softening_ur1 1.0 6" \
@@ -282,6 +283,26 @@ docs-carsington-slide: setup
 	    $(CARS) --out $(DOCS_RUN)/carsington_design_height_softening$${tail}_Y$$Y \
 	    --set safety=false --set yellow_clay_length=$$Y --set discrete_softening=true \
 	    --set size=$$size || [ $$? -eq 4 ] || exit 1; done; done
+	# from the design height on a section that stands to the crest on the 4, 3 and 2 m meshes:
+	# the yellow clay 25 m long, the fill above 194 m OD in 0.5 m parts
+	# (docs-carsington-sensitivity's 25 m rows), the discrete phase without softening on the
+	# 3 m mesh, and with softening on the 4, 3 and 2 m meshes, each also with the yellow clay
+	# 3 cm shorter and longer
+	for run in "design_height_parts 3 25" \
+	    "design_height_parts_softening_size4 4 25 --set discrete_softening=true" \
+	    "design_height_parts_softening_size3 3 25 --set discrete_softening=true" \
+	    "design_height_parts_softening_size2 2 25 --set discrete_softening=true" \
+	    "design_height_parts_softening_size4_Y24.97 4 24.97 --set discrete_softening=true" \
+	    "design_height_parts_softening_size3_Y24.97 3 24.97 --set discrete_softening=true" \
+	    "design_height_parts_softening_size2_Y24.97 2 24.97 --set discrete_softening=true" \
+	    "design_height_parts_softening_size4_Y25.03 4 25.03 --set discrete_softening=true" \
+	    "design_height_parts_softening_size3_Y25.03 3 25.03 --set discrete_softening=true" \
+	    "design_height_parts_softening_size2_Y25.03 2 25.03 --set discrete_softening=true"; do \
+	    set -- $$run; name=carsington_$$1; size=$$2; Y=$$3; shift 3; \
+	    $(CARS) --out $(DOCS_RUN)/$$name --set safety=false --set size=$$size \
+	    --set yellow_clay_length=$$Y --set parts_above=194 --set part_height=0.5 "$$@" \
+	    || [ $$? -eq 4 ] || exit 1; cp $(DOCS_RUN)/$$name/summary.json docs/summaries/$$name.json; \
+	    done
 	for md in 0.5 3; do $(CARS) --out $(DOCS_RUN)/carsington_damping$$md --set safety=false \
 	    --set mass_damping=$$md || [ $$? -eq 4 ] || exit 1; done
 	for c in carsington_softening carsington_softening_ur0.2 carsington_softening_ur1 \

@@ -341,6 +341,19 @@ def test_carsington_softening_coarse(case, tmp_path):
         assert soft["checks"][name].passed, name
 
 
+def _slid_to_rest(run: dict) -> None:
+    """A Carsington run's discrete phase came to rest with the slip surface through the
+    yellow clay, the boot and the core, the upstream shoulder moving upstream, energy
+    bounded, elements and mass kept, and its toe the front of the whole mass."""
+    assert run["discrete"]["stop"] == "rest"
+    assert run["discrete"]["toe_detached_elements"] == 0  # the toe: the whole mass's front
+    for name in ("slip_surface_through_yellow_clay",
+                 "slip_surface_through_boot", "slip_surface_through_core",
+                 "shoulder_moves_upstream", "energy_excess_over_sources",
+                 "elements_conserved", "mass_conserved"):
+        assert run["checks"][name].passed, name
+
+
 @pytest.fixture(scope="module")
 def softening_meshes(tmp_path_factory):
     """Beyond the thesis: the softening analysis on the 4, 3 and 2.5 m meshes of
@@ -357,13 +370,7 @@ def softening_meshes(tmp_path_factory):
                       frames=0, progress=False) for size in (4.0, 3.0, 2.5)]
     assert len({r["construction"]["fill_level_m_od"] for r in runs}) == 1
     for r in runs:
-        assert r["discrete"]["stop"] == "rest"
-        assert r["discrete"]["toe_detached_elements"] == 0  # the toe: the whole mass's front
-        for name in ("slip_surface_through_yellow_clay",
-                     "slip_surface_through_boot", "slip_surface_through_core",
-                     "shoulder_moves_upstream", "energy_excess_over_sources",
-                     "elements_conserved", "mass_conserved"):
-            assert r["checks"][name].passed, name
+        _slid_to_rest(r)
     return cars, runs
 
 
@@ -410,3 +417,60 @@ def test_carsington_softening_toe_three_meshes(softening_meshes):
     cars, runs = softening_meshes
     _observed(cars, runs, "upstream_toe_movement")
     _converged(runs, "toe_runout_m")
+
+
+@pytest.fixture(scope="module")
+def design_height_meshes(tmp_path_factory):
+    """From the design height, as the thesis's discrete run started: with the yellow clay 25 m
+    long the section carries the fill to the crest (Table 6.3, the fill above 194 m OD in
+    0.5 m parts) on the 4 and 3 m meshes, and the discrete phase with softening runs to rest
+    on each with the slip surface through the yellow clay, the boot and the core, the
+    upstream shoulder moving upstream, energy bounded, elements and mass kept
+    (docs/carsington.md: the 2 m mesh too)."""
+    from hybrid.case import load_case
+
+    cars = load_case(CASES / "carsington.py")
+    out = tmp_path_factory.mktemp("carsington_design_height")
+    runs = [cars.main(out=out / f"size{size:g}", size=size, yellow_clay_length=25.0,
+                      parts_above=194.0, part_height=0.5, discrete_softening=True,
+                      safety=False, frames=0, progress=False) for size in (4.0, 3.0)]
+    for r in runs:
+        assert r["construction"]["completed"]
+        assert r["construction"]["fill_level_m_od"] == 200.5
+        _slid_to_rest(r)
+    return cars, runs
+
+
+@pytest.mark.slow
+def test_carsington_design_height_crack_at_crest(design_height_meshes):
+    """Thesis 6.3.2: failure begins at the top of the dam or within the yellow clay, and a
+    crack opens at the crest. From the design height, on both meshes: the first splitting
+    check that fails a bond fails one in the yellow clay or at the crest's top (with others
+    elsewhere), the crest's first failed bonds fail in tension, and during the slide a failed
+    interface joined to the crest's top stands open by at least 0.1 m (``CrackWatch``: a
+    crack, not a slip surface sliding closed)."""
+    _, runs = design_height_meshes
+    for r in runs:
+        for name in ("failure_begins_at_crest_or_in_yellow_clay", "crest_cracks_in_tension",
+                     "crack_at_crest"):
+            assert r["checks"][name].passed, name
+
+
+@pytest.mark.slow
+@pytest.mark.xfail(strict=True, raises=BarNotMet, reason=(
+    "not met: from the design height the upstream toe advances 2.35 and 7.15 m on the 4 and "
+    "3 m meshes (observed 11-13 m), the crest drops 6.85 and 7.48 m (observed about 10 m): "
+    "the toe short of the observed slide and not converged (docs/carsington.md)"))
+def test_carsington_design_height_movements_two_meshes(design_height_meshes):
+    """From the design height: the upstream toe's advance and the crest drop within the
+    case's bar (30 %) of the observed 12 and 10 m on both meshes, and within 15 % from the
+    4 to the 3 m mesh. The section is not the published one (the yellow clay's length is an
+    assumption), so the runs' own checks set no reference: the observed values are read
+    from ``references``."""
+    cars, runs = design_height_meshes
+    for key, observed in (("toe_runout_m", "upstream_toe_movement"),
+                          ("crest_drop_m", "crest_drop")):
+        for r in runs:
+            assert_within(r["discrete"][key], references.CARSINGTON_POST_FAILURE[observed][0],
+                          cars.OBSERVED_BAR, f"{key} against observed")
+        _converged(runs, key)

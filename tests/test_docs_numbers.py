@@ -606,6 +606,55 @@ QUOTES: list[Quote] = [
               *_collapse_of("carsington_design_height_softening_size2")]),
     ("docs/carsington.md", "| from the design height, softening in the discrete phase | {} | {} | "
      "{} | {} |", lambda: _cars_discrete("carsington_design_height_softening")),
+    ("docs/carsington.md", "With the yellow clay {} m long, the longest of the Sensitivity "
+     "table's lengths that carries the fill to the crest on the 3 and 2 m meshes",
+     lambda: [_yellow_clay_length("carsington_parts_size3_Y25")] * (
+         _stands_on_both("_Y25") and not _stands_on_both("_Y30")
+         and not _stands_on_both("_Y50"))),
+    ("docs/carsington.md", "design height, is carried here only by the section with less yellow "
+     "clay: {} m in whole lifts on the 6, 4 and 3 m meshes, {} m with the fill in parts on the 4, "
+     "3 and 2 m meshes", lambda: _design_height_starts()),
+    ("docs/carsington.md", "| 3 | without softening | {} | {} | {} | {}, {} | {} | {} |\n"
+     "  | 4 | softening | {} | {} | {} | {}, {} | {} | {} |\n"
+     "  | 3 | softening | {} | {} | {} | {}, {} | {} | {} |\n"
+     "  | 2 | softening | {} | {} | {} | {}, {} | {} | {} |",
+     lambda: [v for n in DESIGN_HEIGHT_PARTS for v in _design_height_parts_row(n)]),
+    ("docs/carsington.md", "`crack_at_crest` passes in every one of these runs: during the "
+     "slide a failed interface joined to the crest's top opens 0.1 m, first {} to {} s after the "
+     "start. The crack is shallow: one interface, {} to {} m deep, within the last part placed. "
+     "It fails in every run from the design height with {} m of yellow clay in whole lifts "
+     "(above), but those runs' top lift is {} m thick where these have a lift boundary every "
+     "{} m, so the two sets do not tell the section's effect on the crack from the mesh's. The "
+     "widest opening at the crest's top during the slide, {} to {} m, is wider than the crack "
+     "surveyed on the crest before the slide ({} to {} mm).", lambda: _design_height_cracks()),
+    ("docs/carsington.md", "(from the design height with {} m of yellow clay in parts, on the 4, "
+     "3 and 2 m meshes: a failed interface at the crest's top opens 0.1 m, one interface {}-{} m "
+     "deep)", lambda: [_yellow_clay_length(DESIGN_HEIGHT_PARTS[0]),
+                      *_design_height_cracks()[2:4]]),
+    ("docs/carsington.md", "| size [m] | yellow clay 24.97 m | 25 m | 25.03 m |\n"
+     "  |---|---|---|---|\n  | 4 | {}, {} | {}, {} | {}, {} |\n  | 3 | {}, {} | {}, {} | {}, {} |\n"
+     "  | 2 | {}, {} | {}, {} | {}, {} |",
+     lambda: [d[k] for z in ("4", "3", "2") for d in _parts_samples(z)
+              for k in ("toe_runout_m", "crest_drop_m")]),
+    ("docs/carsington.md", "The crack at the crest is found in all nine runs, its widest opening "
+     "at the crest's top {} to {} m. One run's crest drop scatters by {}, {} and {} % on the 4, 3 "
+     "and 2 m meshes (largest over smallest of three runs); the three runs' means, {}, {} and "
+     "{} m, are {} and {} % apart from one mesh to the next", lambda: _parts_sample_spreads()),
+    ("docs/carsington.md", "are {} and {} % apart from one mesh to the next, within the {} % "
+     "mesh bar (the second by less than one run's scatter, so not a sign of convergence), and {} "
+     "to {} % of the observed {} m: within the {} % bar on the 3 m mesh only. The toe is no "
+     "measure across meshes: it advances {} to {} m on the 4 m mesh,",
+     lambda: _parts_sample_means()),
+    ("docs/carsington.md", "{} to {} m on the 3 m mesh (in the {} m run {} elements lie "
+     "detached beyond a gap ahead of the mass's front, and the node first at the toe moved "
+     "{} m: part of that mesh's spread is in where the front is taken, not in the slide) and {} "
+     "to {} m on the 2 m mesh", lambda: _detached_toe()),
+    ("docs/carsington.md", "barely moves (the crest drops {} m). With softening the crest drops "
+     "{}, {} and {} m on the 4, 3 and 2 m meshes: within {} % of the observed {} m on the 3 m "
+     "mesh only, and {} and {} % apart from one mesh to the next (the second beyond the {} % "
+     "mesh bar). The upstream toe advances {}, {} and {} m, short of the observed 11-13 m on "
+     "every mesh and not converged, while the shoulder as a whole moves {}, {} and {} m "
+     "upstream on average", lambda: _design_height_parts_movements()),
     ("docs/carsington.md", "| upstream toe movement | not measured | {} m (bar {} %: not met) |",
      lambda: _cars_observed("upstream_toe_movement")),
     ("docs/carsington.md", "| crest drop | not measured | {} m (bar {} %: not met) |",
@@ -1346,9 +1395,10 @@ QUOTES: list[Quote] = [
      lambda: [r1(f"a{a}")["deposit"]["references"][k] for a in ("1", "2")
               for k in ("rods2015_runout", "rods2015_height")]),
     # --- docs/carsington.md: one run is one sample ------------------------------------
-    *[("docs/carsington.md", f"| {m} | {{}}, {{}} | {{}}, {{}} | {{}}, {{}} |",
-       lambda z=z: [v for d in _cars_samples(z) for v in (d["toe_runout_m"], d["crest_drop_m"])])
-      for m, z in (("6", ""), ("4", "_size4"), ("3", "_size3"))],
+    ("docs/carsington.md", "| 6 | {}, {} | {}, {} | {}, {} |\n  | 4 | {}, {} | {}, {} | {}, {} "
+     "|\n  | 3 | {}, {} | {}, {} | {}, {} |",
+     lambda: [v for z in ("", "_size4", "_size3") for d in _cars_samples(z)
+              for v in (d["toe_runout_m"], d["crest_drop_m"])]),
     ("docs/carsington.md", "One run's toe movement scatters by at least {}, {} and {} % on the 6, "
      "4 and 3 m meshes (largest over smallest of three runs), its crest drop by {}, {} and {} %. "
      "The three runs' mean toe movements on the 4 and 3 m meshes ({} and {} m) are {} % apart, "
@@ -1492,6 +1542,193 @@ DESIGN_HEIGHT_MESHES = ("carsington_design_height_softening",
                         "carsington_design_height_softening_size4",
                         "carsington_design_height_softening_size3",
                         "carsington_design_height_softening_size2")
+
+
+# from the design height with the yellow clay 25 m long and the fill above 194 m OD in 0.5 m
+# parts: the thesis's discrete phase on the 3 m mesh, then softening on the 4, 3 and 2 m meshes
+DESIGN_HEIGHT_PARTS = ("carsington_design_height_parts",
+                       "carsington_design_height_parts_softening_size4",
+                       "carsington_design_height_parts_softening_size3",
+                       "carsington_design_height_parts_softening_size2")
+
+
+def _design_height_parts(name: str) -> dict[str, Any]:
+    """A design-height run of the 25 m section in parts: its summary, checked to be the run
+    its name labels (mesh size, yellow clay, parts, softening in the discrete phase only) and
+    to have carried the fill to the crest; a ValueError otherwise."""
+    d = _json(f"docs/summaries/{name}.json")
+    p = d["parameters"]
+    tail = name.removeprefix("carsington_design_height_parts")
+    size, _, length = tail.removeprefix("_softening").removeprefix("_size").partition("_Y")
+    label = (float(size or 3.0), float(length or 25.0), 194.0, 0.5, tail.startswith("_softening"),
+             False)
+    if (p["size"], p["yellow_clay_length"], p["parts_above"], p["part_height"],
+            p["discrete_softening"], p["softening"]) != label or not d["construction"][
+            "completed"] or d["discrete"]["start"] != "end of construction (design height)":
+        raise ValueError(f"{name}: not the run its label says")
+    if not length and size in ("3", "2"):  # the words: the Sensitivity table's 25 m run
+        base = _json(f"docs/summaries/carsington_parts_size{size}_Y25.json")
+        changed = {k for k in p if p[k] != base["parameters"][k]}
+        if changed - {"discrete_softening", "discrete_time"} or d["core_displacement_mm"] != \
+                base["core_displacement_mm"]:
+            raise ValueError(f"{name}: its continuum stage is not carsington_parts_size{size}_Y25")
+    return d
+
+
+def _design_height_parts_row(name: str) -> list[float]:
+    """Cells, toe, crest drop, the crest crack's first time [s] and depth [m], the widest
+    opening at the crest's top [m] and failed interfaces of a design-height run in parts; a
+    ValueError unless its crack check passed (the table gives a time for every run)."""
+    d = _design_height_parts(name)
+    disc = d["discrete"]
+    if not d["checks"]["crack_at_crest"]["passed"]:
+        raise ValueError(f"{name}: no crack open 0.1 m from the crest")
+    if disc["crest_crack_during_slide_deepest_time_s"] != disc[
+            "crest_crack_during_slide_first_time_s"]:  # the words: that crack's depth
+        raise ValueError(f"{name}: the deepest crack is not the first")
+    onset = disc["failure_onset"]
+    if not (onset["crest_top"]["first_failure_s"] > onset["yellow_clay"]["first_failure_s"]
+            == disc["first_failures"]["time_s"]) or set(
+            onset["crest_top"]["first_failure_modes"]) != {"tension"}:
+        raise ValueError(f"{name}: not the yellow clay first and the crest later, in tension")
+    return [d["mesh"]["cells"], disc["toe_runout_m"], disc["crest_drop_m"],
+            disc["crest_crack_during_slide_first_time_s"],
+            disc["crest_crack_during_slide_deepest_m"],
+            disc["crest_crack_during_slide_surface_opening_m"], disc["interfaces_failed"]]
+
+
+def _design_height_cracks() -> list[float]:
+    """The crest crack in the design-height runs in parts: the range of its first time [s]
+    and of its depth [m]; the yellow clay of the whole-lift design-height runs [m], their top
+    lift's thickness [m] and the part height [m]; the range of the widest opening at the
+    crest's top [m] and the surveyed crack [mm]. The words: the crack found in every run (the
+    row helper), one interface deep, within the last part, and in none of the (ten)
+    design-height runs with 30 m of yellow clay in whole lifts; its widest opening wider than
+    the surveyed crack's."""
+    runs = [_design_height_parts(n)["discrete"] for n in DESIGN_HEIGHT_PARTS]
+    for n in DESIGN_HEIGHT_PARTS:
+        _design_height_parts_row(n)
+    whole = [r for r in _cars_discrete_runs()
+             if round(r["parameters"]["yellow_clay_length"]) == 30 and r["discrete"]["start"]
+             == "end of construction (design height)"]
+    if len(whole) != 10 or any(r["checks"]["crack_at_crest"]["passed"]
+                              or r["parameters"]["parts_above"] is not None for r in whole):
+        raise ValueError("a design-height run with 30 m of yellow clay found the crack")
+    top_lift = {r["mesh"]["lift_tops_m_OD"][-1] - r["mesh"]["lift_tops_m_OD"][-2] for r in whole}
+    parts = {_design_height_parts(n)["parameters"]["part_height"] for n in DESIGN_HEIGHT_PARTS}
+    if len(top_lift) != 1 or len(parts) != 1:
+        raise ValueError("not one top lift, not one part height")
+    if any(d["crest_crack_during_slide_deepest_interfaces"] != 1 for d in runs):
+        raise ValueError("a crack of more than one interface")
+    first, depth, widest = ([d[k] for d in runs] for k in (
+        "crest_crack_during_slide_first_time_s", "crest_crack_during_slide_deepest_m",
+        "crest_crack_during_slide_surface_opening_m"))
+    surveyed = ref.CARSINGTON_CREST_CRACK_MM
+    if min(widest) <= surveyed[1] / 1000.0:
+        raise ValueError("an opening no wider than the surveyed crack")
+    if max(depth) >= min(parts):  # the words: within the last part placed
+        raise ValueError("a crack deeper than a part")
+    return [min(first), max(first), min(depth), max(depth), 30.0, *top_lift, *parts,
+            min(widest), max(widest), *surveyed]
+
+
+def _parts_samples(size: str) -> list[dict[str, Any]]:
+    """The design-height softening runs in parts on one mesh (``size`` "4", "3" or "2") with
+    the yellow clay 24.97, 25 and 25.03 m long: their discrete summaries; a ValueError unless
+    each crack check passed (the words: found in all nine)."""
+    names = [f"carsington_design_height_parts_softening_size{size}{tail}"
+             for tail in ("_Y24.97", "", "_Y25.03")]
+    for n in names:
+        _design_height_parts_row(n)
+    return [_design_height_parts(n)["discrete"] for n in names]
+
+
+def _parts_sample_spreads() -> list[float]:
+    """The widest opening at the crest's top over the nine runs [m]; the crest drop's scatter
+    on the 4, 3 and 2 m meshes [%], its three-run means [m] and their steps [%]."""
+    runs = {z: _parts_samples(z) for z in ("4", "3", "2")}
+    widest = [d["crest_crack_during_slide_surface_opening_m"] for v in runs.values() for d in v]
+    crest = [[d["crest_drop_m"] for d in v] for v in runs.values()]
+    means = [sum(c) / 3.0 for c in crest]
+    return [min(widest), max(widest), *(100.0 * _rel_spread(c) for c in crest), *means,
+            *_steps(means)]
+
+
+def _parts_sample_means() -> list[float]:
+    """The crest drop's three-run means: their steps [%], the mesh bar [%], the least and
+    largest mean over the observed drop [%], the observed drop [m] and the bar [%]; then the
+    toe's range on the 4 m mesh [m]. The words: both steps within the mesh bar,
+    only the 3 m mesh's mean within the bar, the second step within the mesh bar by less
+    than one run's scatter, and on the 3 and 2 m meshes a run whose toe moves less than a
+    metre beside one whose moves more (the front pushed out or not)."""
+    runs = [_parts_samples(z) for z in ("4", "3", "2")]
+    means = [sum(d["crest_drop_m"] for d in v) / 3.0 for v in runs]
+    bar = carsington()["checks"]["crest_drop"]["bar"]
+    observed = ref.CARSINGTON_POST_FAILURE["crest_drop"][0]
+    mesh_bar = 15.0  # tests/test_carsington.py MESH_CHANGE
+    toe = [[d["toe_runout_m"] for d in v] for v in runs]
+    scatter = [100.0 * _rel_spread([d["crest_drop_m"] for d in v]) for v in runs]
+    if (max(_steps(means)) > mesh_bar or mesh_bar - _steps(means)[1] >= min(scatter[1:])
+            or [abs(m / observed - 1.0) <= bar for m in means] != [False, True, False]
+            or any(min(t) >= 1.0 or max(t) <= 1.0 for t in toe[1:])):
+        return []
+    return [*_steps(means), mesh_bar, 100.0 * min(means) / observed,
+            100.0 * max(means) / observed, observed, 100.0 * bar,
+            min(toe[0]), max(toe[0])]
+
+
+def _detached_toe() -> list[float]:
+    """The toe's range on the 3 m mesh in the design-height runs in parts [m], then the one
+    run with elements detached beyond its front: its toe [m], their number and the
+    displacement of the node first at the toe [m] (upstream); the toe's range on the 2 m
+    mesh [m]. Every design-height run in parts of ``TOE_DETACHED`` is this one (the words)."""
+    name = "carsington_design_height_parts_softening_size3_Y24.97"
+    if [n for n in TOE_DETACHED if "design_height_parts" in n] != [name]:
+        return []
+    toe = [d["toe_runout_m"] for d in _parts_samples("3")]
+    d = _design_height_parts(name)["discrete"]
+    fine = [d["toe_runout_m"] for d in _parts_samples("2")]
+    return [min(toe), max(toe), d["toe_runout_m"], d["toe_detached_elements"],
+            -d["upstream_toe_dx_m"], min(fine), max(fine)]
+
+
+def _design_height_starts() -> list[float]:
+    """The yellow clay [m] of the design-height runs in whole lifts (on the 6, 4 and 3 m
+    meshes carrying the fill to the crest, on the 2 m mesh not) and in parts (to the crest on
+    the 4, 3 and 2 m meshes)."""
+    whole = [_json(f"docs/summaries/{n}.json") for n in DESIGN_HEIGHT_MESHES]
+    parts = [_design_height_parts(n) for n in DESIGN_HEIGHT_PARTS[1:]]
+    if [r["parameters"]["size"] for r in whole] != [6.0, 4.0, 3.0, 2.0] or [
+            r["construction"]["completed"] for r in whole] != [True, True, True, False] or [
+            r["parameters"]["size"] for r in parts] != [4.0, 3.0, 2.0]:
+        return []
+    return [whole[0]["parameters"]["yellow_clay_length"], parts[0]["parameters"][
+        "yellow_clay_length"]]
+
+
+def _design_height_parts_movements() -> list[float]:
+    """The design-height runs in parts: the crest drop without softening [m]; with softening
+    the crest drops [m], the bar [%], the observed crest drop [m], the steps from mesh to mesh
+    [%], the mesh bar [%], the toe movements [m] and the shoulder's mean movements [m]. The
+    words: only the 3 m mesh's crest drop within the bar, the second step beyond the mesh
+    bar, every toe short of the observed one by more than the bar and the toe's steps
+    beyond the mesh bar; the node first at the toe on the 2 m mesh not moving."""
+    plain, *soft = (_design_height_parts(n)["discrete"] for n in DESIGN_HEIGHT_PARTS)
+    bar = carsington()["checks"]["crest_drop"]["bar"]
+    crest_at, toe_at = (ref.CARSINGTON_POST_FAILURE[k][0]
+                        for k in ("crest_drop", "upstream_toe_movement"))
+    crest = [d["crest_drop_m"] for d in soft]
+    toe = [d["toe_runout_m"] for d in soft]
+    steps = _steps(crest)
+    mesh_bar = 15.0  # tests/test_carsington.py MESH_CHANGE
+    if ([abs(c / crest_at - 1.0) <= bar for c in crest] != [False, True, False]
+            or [s > mesh_bar for s in steps] != [False, True]
+            or not all(t < (1.0 - bar) * toe_at for t in toe)
+            or not any(abs(b - a) > mesh_bar / 100.0 * max(a, b) for a, b in zip(toe, toe[1:]))
+            or soft[2]["upstream_toe_dx_m"] != 0.0):
+        return []
+    return [plain["crest_drop_m"], *crest, 100.0 * bar, crest_at, *steps, mesh_bar, *toe,
+            *(-d["upstream_shoulder_mean_dx_m"] for d in soft)]
 
 
 def _design_height_row(name: str) -> list[float]:
@@ -1859,6 +2096,11 @@ CARSINGTON_KEPT = ("energy_excess_over_sources", "elements_conserved", "mass_con
                    "crest_cracks_in_tension")
 
 
+# the committed Carsington runs that leave elements detached beyond the embankment's front (the
+# toe's advance does not count them), as docs/carsington.md reports them
+TOE_DETACHED = {"carsington_design_height_parts_softening_size3_Y24.97": 2}
+
+
 @pytest.mark.parametrize("path", sorted((ROOT / "docs" / "summaries").glob("carsington*.json")),
                          ids=lambda p: p.stem)
 def test_committed_carsington_runs_keep_their_bars(path):
@@ -1872,8 +2114,9 @@ def test_committed_carsington_runs_keep_their_bars(path):
         assert checks[name]["passed"], name
     if "discrete" in summary:
         assert summary["discrete"]["stop"] == "rest"
-        # the toe's advance is the front of the whole embankment, one continuous mass
-        assert summary["discrete"]["toe_detached_elements"] == 0
+        # the toe's advance is the front of the whole embankment, one continuous mass (where
+        # elements lie detached beyond it, docs/carsington.md says how many: TOE_DETACHED)
+        assert summary["discrete"]["toe_detached_elements"] == TOE_DETACHED.get(path.stem, 0)
         for name in CARSINGTON_KEPT:
             assert checks[name]["passed"], name
 
