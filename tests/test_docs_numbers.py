@@ -623,14 +623,17 @@ QUOTES: list[Quote] = [
      "slide a failed interface joined to the crest's top opens 0.1 m, first {} to {} s after the "
      "start. The crack is shallow: one interface, {} to {} m deep, within the last part placed. "
      "It fails in every run from the design height with {} m of yellow clay in whole lifts "
-     "(above), but those runs' top lift is {} m thick where these have a lift boundary every "
-     "{} m, so the two sets do not tell the section's effect on the crack from the mesh's. The "
-     "widest opening at the crest's top during the slide, {} to {} m, is wider than the crack "
-     "surveyed on the crest before the slide ({} to {} mm).", lambda: _design_height_cracks()),
+     "(above), and in the same section ({} m) placed in whole lifts (3 m mesh, softening; the "
+     "widest opening at the crest's top {} m, the toe {} m, the crest drop {} m; "
+     "`docs/summaries/carsington_design_height_Y25_softening_size3.json`): on the 3 m mesh the "
+     "crack comes with the fill placed in parts, which puts a lift boundary every {} m where a "
+     "whole top lift is {} m thick, not with the section. The widest opening at the crest's "
+     "top during the slide, {} to {} m, is wider than the crack surveyed on the crest before "
+     "the slide ({} to {} mm).", lambda: _design_height_cracks()),
     ("docs/carsington.md", "(from the design height with {} m of yellow clay in parts, on the 4, "
      "3 and 2 m meshes: a failed interface at the crest's top opens 0.1 m, one interface {}-{} m "
-     "deep)", lambda: [_yellow_clay_length(DESIGN_HEIGHT_PARTS[0]),
-                      *_design_height_cracks()[2:4]]),
+     "deep; with the same section in whole lifts none)",
+     lambda: [_yellow_clay_length(DESIGN_HEIGHT_PARTS[0]), *_design_height_cracks()[2:4]]),
     ("docs/carsington.md", "| size [m] | yellow clay 24.97 m | 25 m | 25.03 m |\n"
      "  |---|---|---|---|\n  | 4 | {}, {} | {}, {} | {}, {} |\n  | 3 | {}, {} | {}, {} | {}, {} |\n"
      "  | 2 | {}, {} | {}, {} | {}, {} |",
@@ -1599,12 +1602,14 @@ def _design_height_parts_row(name: str) -> list[float]:
 
 def _design_height_cracks() -> list[float]:
     """The crest crack in the design-height runs in parts: the range of its first time [s]
-    and of its depth [m]; the yellow clay of the whole-lift design-height runs [m], their top
-    lift's thickness [m] and the part height [m]; the range of the widest opening at the
-    crest's top [m] and the surveyed crack [mm]. The words: the crack found in every run (the
-    row helper), one interface deep, within the last part, and in none of the (ten)
-    design-height runs with 30 m of yellow clay in whole lifts; its widest opening wider than
-    the surveyed crack's."""
+    and of its depth [m]; the yellow clay of the whole-lift design-height runs [m]; the same
+    25 m section in whole lifts (3 m mesh, softening): its yellow clay [m], widest opening at
+    the crest's top, toe and crest drop [m]; the part height and the whole top lift's
+    thickness [m]; the range of the widest opening at the crest's top [m] and the surveyed
+    crack [mm]. The words: the crack found in every run in parts (the row helper), one
+    interface deep, within the last part, and in none of the (ten) design-height runs with
+    30 m of yellow clay in whole lifts nor in the 25 m section in whole lifts; its widest
+    opening wider than the surveyed crack's."""
     runs = [_design_height_parts(n)["discrete"] for n in DESIGN_HEIGHT_PARTS]
     for n in DESIGN_HEIGHT_PARTS:
         _design_height_parts_row(n)
@@ -1628,8 +1633,16 @@ def _design_height_cracks() -> list[float]:
         raise ValueError("an opening no wider than the surveyed crack")
     if max(depth) >= min(parts):  # the words: within the last part placed
         raise ValueError("a crack deeper than a part")
-    return [min(first), max(first), min(depth), max(depth), 30.0, *top_lift, *parts,
-            min(widest), max(widest), *surveyed]
+    same = _json("docs/summaries/carsington_design_height_Y25_softening_size3.json")
+    p = same["parameters"]
+    if (p["size"], p["yellow_clay_length"], p["parts_above"], p["discrete_softening"]) != (
+            3.0, 25.0, None, True) or not same["construction"]["completed"] or same["checks"][
+            "crack_at_crest"]["passed"] or same["mesh"]["lift_tops_m_OD"][-2:] != [198.0, 200.5]:
+        raise ValueError("not the 25 m section in whole lifts without a crack")
+    s = same["discrete"]
+    return [min(first), max(first), min(depth), max(depth), 30.0, p["yellow_clay_length"],
+            s["crest_crack_during_slide_surface_opening_m"], s["toe_runout_m"],
+            s["crest_drop_m"], *parts, *top_lift, min(widest), max(widest), *surveyed]
 
 
 def _parts_samples(size: str) -> list[dict[str, Any]]:
