@@ -75,6 +75,9 @@ docs: docs-h2 docs-h2-settlement docs-h3-d10 docs-carsington-construction \
 docs-h2: setup
 	mkdir -p docs/summaries docs/figures/hybrid
 	$(PY) -m hybrid run cases/footing_failure.py --out $(DOCS_RUN)/h2 --set progress=false --overwrite
+	# the far side as a plain roller that reflects the waves (docs/hybrid.md)
+	$(PY) -m hybrid run cases/footing_failure.py --out $(DOCS_RUN)/h2_reflecting \
+	    --set progress=false --set far_boundary=reflecting --overwrite
 	# H2's mesh sensitivity (docs/hybrid.md): every mesh followed to rest; a discrete run that
 	# stops unstable (exit 3) is reported as such (docs/summaries/h2_*.unstable.txt, its
 	# message) beside the mesh's continuum summary; the displacement-controlled punch on the
@@ -115,8 +118,8 @@ docs-h2: setup
 	    shift; $(PY) -m hybrid run cases/footing_failure.py --out $(DOCS_RUN)/h2_$$name \
 	    --overwrite --set progress=false --set discrete=false --set residual_cohesion=69 "$$@" \
 	    || exit 1; done
-	for c in h2 h2_fine0.16 h2_fine0.12 h2_fine0.04 h2_structured h2_punch h2_punch_fine0.04 \
-	    h2_punch_v0.125 h2_punch_v0.125_fine0.04 h2_punch_fine0.12 h2_punch_structured \
+	for c in h2 h2_reflecting h2_fine0.16 h2_fine0.12 h2_fine0.04 h2_structured h2_punch \
+	    h2_punch_fine0.04 h2_punch_v0.125 h2_punch_v0.125_fine0.04 h2_punch_fine0.12 h2_punch_structured \
 	    h2_punch_ur0.1 h2_punch_ur0.4 h2_structured_fine0.04 h2_punch_structured_fine0.04 \
 	    h2_perfect h2_triangle_perfect h2_W4.7952 h2_structured_W4.7952 \
 	    h2_structured_W4.8048; do \

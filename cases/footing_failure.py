@@ -45,8 +45,8 @@ Set-up
        ``punch_ramp_time`` (0.5 s: several periods of the soil layer's fundamental modes,
        quarter-wave 4 H / V_p = 0.05 s and 4 H / V_s = 0.09 s for H = 3 m, so that the load
        comes off slowly against them; removed over 0.05 s instead, from a push at 1 m/s, it
-       leaves the intact soil vibrating with nothing to damp it and the default mesh's run
-       does not come to rest);
+       leaves the intact soil vibrating with nothing to damp it and, with the far side
+       reflecting, the default mesh's run does not come to rest);
        the summary adds the mean bearing pressure over the push and over its last fifth. The
        speed is slow enough that halving it moves the measures by a few per cent
        (docs/hybrid.md).
@@ -57,6 +57,15 @@ Set-up
        alpha. With alpha = 0.5 ... 2 /s the settlement and heave at rest are within 10 % of
        the undamped run's, a little smaller as alpha grows (damping brakes the footing while
        the load comes off).
+       The far side (x = ``width``) is where the model stops, not where the ground does: in
+       the discrete phase it is a transmitting boundary (``far_boundary``, default
+       "transmitting": the roller keeps the soil from moving across it and viscous dashpots
+       rho V_s per unit length on the vertical velocity let the shear waves of the punch and
+       of the unloading leave, Lysmer & Kuhlemeyer 1969, ``Roller(transmitting=True)``). As
+       a plain roller ("reflecting") it sends them back, and the intact soil rings in the
+       model's box until a beat of its modes happens to fall below the rest bar
+       (docs/hybrid.md). The base stays fixed (a rough rigid base, which reflects) and the
+       symmetry plane a roller (a plane of symmetry reflects by definition).
 Verification (H2 has no closed form)
     Bars: rest after unloading (E_kin <= ``rest`` x its peak, and the loads no longer
     working: ``hybrid.discrete.options.drift_ratio`` <= 1 %), bounded energy (E_kin +
@@ -162,6 +171,10 @@ class Parameters(CaseParameters):
     progress: bool = True  # progress bar of the discrete runs
     discrete: bool = True  # run the discrete phase (False: stop after the handover, as the
     #                        mesh study of the collapse load does)
+    far_boundary: str = param("transmitting", choices=("transmitting", "reflecting"))  # the
+    #                       far side in the discrete phase: viscous dashpots on its free
+    #                       (vertical) component let waves leave (the header), or a plain
+    #                       roller that reflects them
     contact_damping: float = param(0.2, ge=0, le=1)  # normal contact damping ratio zeta [-]
     interface_cohesion: float | None = None  # bond cohesion [kPa] (None: c)
     interface_phi: float | None = None  # bond friction angle [deg] (None: phi)
@@ -189,7 +202,8 @@ def main(out: str | Path = "results/footing_failure", **overrides) -> CaseSummar
                     contact=Contact(damping=p.contact_damping))
     # the load factor is the footing pressure in kPa
     model = Model(mesh, {"soil": soil},
-                  supports=[Fixed("base"), Roller("symmetry", "x"), Roller("right", "x")],
+                  supports=[Fixed("base"), Roller("symmetry", "x"),
+                            Roller("right", "x", transmitting=p.far_boundary == "transmitting")],
                   loads=[Pressure("footing", 1.0)])
 
     # 1. continuum: gravity, then pressure until no equilibrium

@@ -41,10 +41,18 @@ class Fixed:
 
 @dataclass(frozen=True)
 class Roller:
-    """The displacement component along ``direction`` held at zero (smooth support)."""
+    """The displacement component along ``direction`` held at zero (smooth support).
+
+    ``transmitting``: the boundary truncates a larger ground (not a symmetry plane, not a
+    wall that is there): in the discrete phase its free component gets viscous dashpots
+    (``DiscreteState.set_transmitting``), so that the waves of the failure leave the model
+    as they would leave through the ground beyond instead of ringing in it. The continuum
+    (static) phase is the same either way.
+    """
 
     boundary: str
     direction: Literal["x", "y"]
+    transmitting: bool = False
 
     def __post_init__(self) -> None:
         if self.direction not in ("x", "y"):

@@ -49,6 +49,9 @@ class CellSnapshot:
         smooth: names of the boundaries with a roller support (a symmetry plane or a smooth
             wall: the discrete start makes the straight ones smooth rigid walls for every
             element, ``DiscreteState.walls``).
+        transmitting: names of the roller boundaries that truncate a larger ground (the
+            discrete start gives their free component viscous dashpots,
+            ``DiscreteState.set_transmitting``).
         loads: boundary name -> (pressure [kPa], traction x [kPa], traction y [kPa]) of the
             surface load on it (pressure acts against the outward normal).
         load_factor: the factor the surface loads stand at [-].
@@ -71,6 +74,7 @@ class CellSnapshot:
     boundary_edges: dict[str, np.ndarray] = field(default_factory=dict)
     supports: tuple[tuple[str, bool, bool], ...] = ()
     smooth: tuple[str, ...] = ()
+    transmitting: tuple[str, ...] = ()
     loads: dict[str, tuple[float, float, float]] = field(default_factory=dict)
     load_factor: float = 1.0
     gravity: tuple[float, float] = (0.0, 0.0)

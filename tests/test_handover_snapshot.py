@@ -62,6 +62,27 @@ def test_start_from_a_snapshot_carries_mass_loads_supports_and_region():
     assert both.discrete.interface_splittable.tolist() == [True]
 
 
+def test_a_transmitting_roller_gets_dashpots_on_its_free_component():
+    """The right side (x = 2, one edge of length 1) a transmitting roller held in x: its two
+    nodes share the dashpot sqrt(G rho) x 1 m on y (Lysmer & Kuhlemeyer 1969), nothing on x
+    and nowhere else; a transmitting boundary held in both directions is refused."""
+    right = {"right": np.array([[2, 5, 1]])}
+    snap = _snapshot(boundary_edges={**_snapshot().boundary_edges, **right},
+                     supports=(("base", True, True), ("right", True, False)),
+                     smooth=("right",), transmitting=("right",))
+    disc = start_from(snap, region=Region(everywhere=True)).discrete
+    clay = snap.materials[0]
+    impedance = np.sqrt(clay.shear_modulus * clay.density)
+    on = np.flatnonzero(disc.dashpot[:, 1])
+    assert np.isclose(disc.x[on, 0], 2.0).all() and len(on) == 2
+    assert disc.dashpot[:, 1].sum() == pytest.approx(impedance * 1.0, rel=1e-12)
+    assert not disc.dashpot[:, 0].any()
+    with pytest.raises(ValueError, match="only a roller"):
+        start_from(_snapshot(boundary_edges={**_snapshot().boundary_edges, **right},
+                             supports=(("base", True, True), ("right", True, True)),
+                             transmitting=("right",)), region=Region(everywhere=True))
+
+
 def test_a_quadratic_cell_hands_over_its_area_weighted_mean():
     """A P2 / Q2 cell's stress goes to every Gauss point as the local L2 projection onto
     constants, sum A_q sigma_q / sum A_q: with unequal point areas (a 3 x 3 Gauss rule's

@@ -52,6 +52,8 @@ def cell_snapshot(state: Any, *, strength_factor: float | None = None,
         yielded=data["yielded"],
         boundary_edges=edges, supports=tuple(_held(s) for s in model.supports),
         smooth=tuple(s.boundary for s in model.supports if isinstance(s, Roller)),
+        transmitting=tuple(s.boundary for s in model.supports
+                           if isinstance(s, Roller) and s.transmitting),
         loads={load.boundary: _load_row(load) for load in model.loads},
         load_factor=float(state.info.get("load_factor", 1.0)),
         gravity=(0.0, -GRAVITY) if gravity else (0.0, 0.0))

@@ -8,7 +8,10 @@ taken, and every member gets the same velocity (thesis eq 3.12, mass-proportiona
     v(t+dt/2) = ((2 - alpha dt) / (2 + alpha dt)) v(t-dt/2) + (2 dt / (2 + alpha dt)) R / m,
 
 optionally with Cundall's local non-viscous damping R_i -= d |R_i| sign(v_i) (quasi-static
-phases); fixed components take their prescribed velocity; then x += dt v. The element kernel
+phases); a component with boundary dashpots (``DiscreteState.dashpot``, summed over the group
+to C) takes the same central difference with the force -C v:
+v(t+dt/2) = (((2 - alpha dt) m - C dt) v(t-dt/2) + 2 dt R) / ((2 + alpha dt) m + C dt);
+fixed components take their prescribed velocity; then x += dt v. The element kernel
 then updates the stresses for du = dt v and computes I on the new configuration.
 """
 
@@ -33,12 +36,13 @@ __all__ = ["stable_time_step", "critical_time_step", "element_frequencies", "CRI
 @numba.njit(cache=True, parallel=True)
 def _group_update(group_ptr, group_nodes, group_mass, internal_force, contact_force,
                   use_contact, external_force, use_external, gravity, fixed,
-                  prescribed_velocity, alpha, local_damping, dt, v, x, group_energy):
+                  prescribed_velocity, alpha, local_damping, dt, v, x, group_energy, dashpot):
     """Tie-group reduction + damped central-difference update; writes v, x, group_energy.
 
     group_energy[g] += [work of loads and gravity, work of the supports (reactions of fixed /
-    prescribed-velocity components), mass-damping dissipation, local-damping dissipation]
-    over the step, with the step velocity v(t+dt/2) (dissipation with the mean velocity).
+    prescribed-velocity components), mass-damping and boundary-dashpot dissipation,
+    local-damping dissipation] over the step, with the step velocity v(t+dt/2) (dissipation
+    with the mean velocity).
     """
     ng = group_ptr.shape[0] - 1
     c1 = (2.0 - alpha * dt) / (2.0 + alpha * dt)
@@ -57,8 +61,12 @@ def _group_update(group_ptr, group_nodes, group_mass, internal_force, contact_fo
         fixy = False
         pvx = 0.0
         pvy = 0.0
+        cx = 0.0  # the group's boundary dashpots [kN s/m2]
+        cy = 0.0
         for k in range(s, t):
             i = group_nodes[k]
+            cx += dashpot[i, 0]
+            cy += dashpot[i, 1]
             if use_external:
                 ex += external_force[i, 0]
                 ey += external_force[i, 1]
@@ -89,8 +97,20 @@ def _group_update(group_ptr, group_nodes, group_mass, internal_force, contact_fo
                 dly = -local_damping * abs(fy)
             elif voy < 0.0 and not fixy:
                 dly = local_damping * abs(fy)
-        vnx = pvx if fixx else c1 * vox + c2 * (fx + dlx) / m
-        vny = pvy if fixy else c1 * voy + c2 * (fy + dly) / m
+        if fixx:
+            vnx = pvx
+        elif cx > 0.0:
+            vnx = ((((2.0 - alpha * dt) * m - cx * dt) * vox + 2.0 * dt * (fx + dlx))
+                   / ((2.0 + alpha * dt) * m + cx * dt))
+        else:
+            vnx = c1 * vox + c2 * (fx + dlx) / m
+        if fixy:
+            vny = pvy
+        elif cy > 0.0:
+            vny = ((((2.0 - alpha * dt) * m - cy * dt) * voy + 2.0 * dt * (fy + dly))
+                   / ((2.0 + alpha * dt) * m + cy * dt))
+        else:
+            vny = c1 * voy + c2 * (fy + dly) / m
         for k in range(s, t):
             i = group_nodes[k]
             v[i, 0] = vnx
@@ -108,6 +128,10 @@ def _group_update(group_ptr, group_nodes, group_mass, internal_force, contact_fo
         group_energy[gi, 0] += (ex * vnx + ey * vny) * dt
         group_energy[gi, 1] += wsup
         group_energy[gi, 2] += alpha * m * (vax * vax + vay * vay) * dt
+        if cx > 0.0 and not fixx:
+            group_energy[gi, 2] += cx * vax * vax * dt
+        if cy > 0.0 and not fixy:
+            group_energy[gi, 2] += cy * vay * vay * dt
         group_energy[gi, 3] -= (dlx * vax + dly * vay) * dt
 
 
@@ -489,7 +513,7 @@ def step(state: DiscreteState, dt: float, *, mass_damping: float = 0.0,
     _group_update(state.group_ptr, state.group_nodes, state.group_mass, state.internal_force,
                   cf, use_c, state.external_force, bool(external), state.gravity, state.fixed,
                   state.prescribed_velocity, float(mass_damping), float(local_damping),
-                  float(dt), state.v, state.x, state.group_energy)
+                  float(dt), state.v, state.x, state.group_energy, state.dashpot)
     element_forces(state.x, state.v, float(dt), state.element_nodes, state.element_material,
                    state.material_table, state.elastic_only, state.element_length,
                    state.stress, state.plastic_strain, state.yielded, state.internal_force,

@@ -20,9 +20,10 @@ velocity less the stored k_n A^2 / (2 L_c): energy the overlap-area normal force
 (> 0) or gives (< 0) over a contact episode, because it is not exactly conservative (corner
 contacts with a varying contact length, the O(dt^2) error of stiff contacts) and U_n is
 approximate (D5: +2.8 % of the work of gravity with contact damping 0.2, -1.0 % without).
-W_loads, W_supports, D_damping (mass and local damping, thesis eq 3.12) accumulate per tie
-group in ``DiscreteState.group_energy`` (the step kernel, ``integrate``) and are folded into
-the slots ``LEDGER_GROUPS`` of ``DiscreteState.ledger`` when the groups change; the contact
+W_loads, W_supports, D_damping (mass and local damping, thesis eq 3.12, and the dashpots of
+transmitting boundaries) accumulate per tie group in ``DiscreteState.group_energy`` (the step
+kernel, ``integrate``) and are folded into the slots ``LEDGER_GROUPS`` of
+``DiscreteState.ledger`` when the groups change; the contact
 works accumulate in its slots ``LEDGER_FRICTION``, ``LEDGER_CONTACT_DAMPING`` and
 ``LEDGER_CONTACT_NORMAL`` (the solver's ledger update after each step).
 """
@@ -50,8 +51,8 @@ __all__ = ["EnergyLedger", "LEDGER_FRICTION", "LEDGER_CONTACT_DAMPING", "LEDGER_
 def group_works(state: DiscreteState) -> np.ndarray:
     """The works the step kernel accumulates per tie group, summed over the state so far.
 
-    [loads and gravity, supports, mass damping, local damping] [kJ/m] (``integrate``), the
-    part folded into ``LEDGER_GROUPS`` when the groups changed included.
+    [loads and gravity, supports, mass damping and dashpots, local damping] [kJ/m]
+    (``integrate``), the part folded into ``LEDGER_GROUPS`` when the groups changed included.
     """
     return state.group_energy.sum(axis=0) + state.ledger[LEDGER_GROUPS]
 
@@ -79,7 +80,7 @@ class EnergyLedger:
     contact_normal_defect: float  # minus the work of the elastic normal forces less U_n
     work_loads: float  # work of gravity and the external loads
     work_supports: float  # work of the support reactions (fixed / prescribed velocities)
-    damping: float  # mass-damping plus local-damping dissipation
+    damping: float  # mass-damping, local-damping and boundary-dashpot dissipation
     friction: float  # minus the work of the tangential contact forces less U_t
     contact_damping: float  # minus the work of the contact damping forces
 

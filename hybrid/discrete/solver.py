@@ -623,6 +623,9 @@ class ExplicitSolver:
         if "fragment_cap" not in fields_:
             raise ValueError(f"checkpoint {path} was written by an older version of hybrid "
                              "(its elements carry no fragment flags): rerun without --resume")
+        if "dashpot" not in fields_:
+            raise ValueError(f"checkpoint {path} was written by an older version of hybrid "
+                             "(its nodes carry no boundary dashpots): rerun without --resume")
         if "solver.numbers" not in extra:
             raise ValueError(f"checkpoint {path} holds a state only (DiscreteState.save): "
                              "load it with DiscreteState.load and start a new solver on it")

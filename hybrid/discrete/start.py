@@ -10,7 +10,9 @@ What is carried:
     plastic strain / any yielded point of the cell;
   * the snapshot's materials (the strengths in force), supports (the nodes on the boundary
     are held in the directions given; a straight roller boundary also becomes a smooth
-    rigid wall for every element, ``hybrid.discrete.contact.walls``), surface loads
+    rigid wall for every element, ``hybrid.discrete.contact.walls``, and a transmitting one
+    gets viscous dashpots on its free component, ``DiscreteState.set_transmitting``), surface
+    loads
     (consistent nodal forces on each boundary edge of its element, at the current geometry,
     kept in ``load_forces`` so that a load history can scale them), gravity;
   * velocities start at zero.
@@ -106,6 +108,7 @@ def start_from_snapshot(snapshot: CellSnapshot, *, splittable: np.ndarray,
         nodes = boundary_nodes.get(name, np.zeros(0, dtype=np.int64))
         disc.fix(nodes, x=held_x, y=held_y)
     disc.walls, disc.wall_nodes = _walls(s, disc, boundary_nodes)
+    _transmitting(s, disc)
     disc.external_force[:] = load_forces
     disc.primed = False
     report = {"elements": int(disc.n_elements), "nodes": int(disc.n_nodes),
@@ -152,6 +155,28 @@ def _walls(s: CellSnapshot, disc: DiscreteState,
     return np.array(rows, dtype=float).reshape(-1, WALL_WIDTH), wall_nodes
 
 
+def _transmitting(s: CellSnapshot, disc: DiscreteState) -> None:
+    """Dashpots on the free component of the transmitting roller boundaries."""
+    point_of_node = s.cells.reshape(-1)  # discrete node k sits at snapshot point [k]
+    held = {name: (hx, hy) for name, hx, hy in s.supports}
+    for name in s.transmitting:
+        if name not in held or held[name][0] == held[name][1]:
+            raise ValueError(f"transmitting boundary {name!r}: only a roller (one component "
+                             "held) can transmit; make it Roller(..., transmitting=True)")
+        edges = [(*_edge_ends(point_of_node, disc, va, vb, e), int(e))
+                 for va, vb, e in s.boundary_edges.get(name, ())]
+        disc.set_transmitting(np.array(edges, dtype=np.int64).reshape(-1, 3),
+                              axis=1 if held[name][0] else 0)
+
+
+def _edge_ends(point_of_node: np.ndarray, disc: DiscreteState, va: int, vb: int,
+               e: int) -> tuple[int, int]:
+    """The discrete nodes of element ``e`` at the snapshot points ``va`` and ``vb``."""
+    nodes = disc.element_nodes[e]
+    return (int(nodes[np.flatnonzero(point_of_node[nodes] == va)[0]]),
+            int(nodes[np.flatnonzero(point_of_node[nodes] == vb)[0]]))
+
+
 def _boundaries(s: CellSnapshot, disc: DiscreteState) -> tuple[dict[str, np.ndarray],
                                                                  np.ndarray]:
     """Discrete nodes of each named boundary and the nodal forces of the surface loads."""
@@ -163,9 +188,7 @@ def _boundaries(s: CellSnapshot, disc: DiscreteState) -> tuple[dict[str, np.ndar
         nodes_on = []
         load = s.loads.get(name)
         for va, vb, e in edges:
-            nodes = disc.element_nodes[e]
-            a = int(nodes[np.flatnonzero(point_of_node[nodes] == va)[0]])
-            b = int(nodes[np.flatnonzero(point_of_node[nodes] == vb)[0]])
+            a, b = _edge_ends(point_of_node, disc, va, vb, e)
             nodes_on.extend([a, b])
             if load is not None:
                 load_forces[[a, b]] += 0.5 * s.load_factor * _edge_force(

@@ -117,7 +117,8 @@ class DiscreteState:
     internal_force: np.ndarray = MADE_ON_CREATION  # (n_nodes, 2) I = sum B^T sigma dA [kN/m]
     group_mass: np.ndarray = MADE_ON_CREATION  # (n_groups,) summed lumped mass per tie group [t/m]
     group_energy: np.ndarray = MADE_ON_CREATION  # (n_groups, 4) [work of loads and gravity, work of
-    #     supports, mass-damping and local-damping dissipation] accumulated per group [kJ/m]
+    #     supports, mass-damping and dashpot dissipation, local-damping dissipation]
+    #     accumulated per group [kJ/m]
     ledger: np.ndarray = MADE_ON_CREATION  # (8,) [friction, contact damping, then
     #     group_energy's four columns folded in when groups are renumbered, elastic normal
     #     contact work, -] [kJ/m]; slots LEDGER_FRICTION, LEDGER_CONTACT_DAMPING,
@@ -140,6 +141,10 @@ class DiscreteState:
     wall_nodes: np.ndarray = MADE_ON_CREATION  # (n, 2) int64 [wall row, node]: the support
     #     nodes each wall belongs to; a wall goes when none of them is held along its normal
     #     (a wall with none listed stands for good)
+    dashpot: np.ndarray = MADE_ON_CREATION  # (n_nodes, 2) viscous dashpot on each component
+    #     of a node of a transmitting boundary [kN s/m2: kN/m per m/s]: the force -dashpot v
+    #     lets waves leave through a boundary that truncates a larger ground (Lysmer &
+    #     Kuhlemeyer 1969; ``set_transmitting``); zero by default
     interface_mode: np.ndarray = MADE_ON_CREATION  # (n_if,) int8 how each failed interface
     #     failed at a splitting check of a run (``ties.FAIL_TENSION`` ... ``FAIL_DISTORTED``);
     #     0 while intact, and for one failed otherwise (at creation, or by the caller)
@@ -172,6 +177,8 @@ class DiscreteState:
             self.element_length = characteristic_length(self.x_ref, self.element_nodes)
         if self.fragment_cap is None:
             self.fragment_cap = np.full(self.element_nodes.shape[0], np.inf)
+        if self.dashpot is None:
+            self.dashpot = np.zeros((n, 2))
         if self.walls is None:
             self.walls = np.zeros((0, 5))
         if self.wall_nodes is None:
@@ -263,6 +270,31 @@ class DiscreteState:
                 self.v[idx, d] = velocity[d]
         self.primed = False
 
+    def set_transmitting(self, edges, axis: int) -> None:
+        """Make boundary edges transmitting along ``axis`` (0: x, 1: y) with viscous dashpots.
+
+        ``edges`` (m, 3) rows (node a, node b, element): each edge of length L gets the
+        dashpot rho V_s L / 2 = sqrt(G rho) L / 2 on component ``axis`` of both its nodes,
+        with the shear modulus G and density rho of its element (Lysmer & Kuhlemeyer 1969,
+        ASCE J. Eng. Mech. Div. 95(4): a shear wave travelling along the boundary's normal
+        leaves it without reflection when ``axis`` is the boundary's tangent). Meant for
+        the free component of a roller boundary that truncates a larger ground; repeated
+        calls add up.
+        """
+        from hybrid.constitutive.table import SHEAR_MODULUS
+
+        edges = np.asarray(edges, dtype=np.int64).reshape(-1, 3)
+        if axis not in (0, 1):
+            raise ValueError(f"axis = {axis!r}: 0 (x) or 1 (y)")
+        if edges.size and (edges[:, :2].min() < 0 or edges[:, :2].max() >= self.n_nodes
+                           or edges[:, 2].min() < 0 or edges[:, 2].max() >= self.n_elements):
+            raise ValueError("edges name nodes or elements that do not exist")
+        mat = self.element_material[edges[:, 2]]
+        impedance = np.sqrt(self.material_table[mat, SHEAR_MODULUS] * self.density[mat])
+        length = np.linalg.norm(self.x[edges[:, 0]] - self.x[edges[:, 1]], axis=1)
+        for end in (0, 1):
+            np.add.at(self.dashpot[:, axis], edges[:, end], 0.5 * impedance * length)
+
     def element_centroids(self) -> np.ndarray:
         """(n_elements, 2) mean of each element's node coordinates [m]."""
         return self.x[self.element_nodes].mean(axis=1)
@@ -326,6 +358,7 @@ _LAYOUT: dict[str, tuple[str, tuple[str | int, ...]]] = {
     "primed": ("b1", ()), "dt": ("f8", ()), "rigid_links": ("i8", ("L", 2)),
     "element_length": ("f8", ("E",)), "fragment_cap": ("f8", ("E",)),
     "walls": ("f8", ("B", 5)), "wall_nodes": ("i8", ("BN", 2)),
+    "dashpot": ("f8", ("N", 2)),
     "interface_mode": ("i1", ("I",)), "interface_failure_time": ("f8", ("I",)),
 }
 #: index arrays and the size their entries index
