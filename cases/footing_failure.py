@@ -54,16 +54,16 @@ Set-up
        through a viscous fluid, and it does not decide the result: the energy of the punch
        goes into plastic work, friction and contact damping, and rest is judged by the
        kinetic energy and by the loads having stopped working, neither of which depends on
-       alpha. With alpha = 0.5 ... 2 /s the settlement and heave at rest are within 10 % of
-       the undamped run's, a little smaller as alpha grows (damping brakes the footing while
-       the load comes off).
+       alpha. With alpha = 0.5 ... 2 /s the settlement and heave at rest were within 10 % of
+       the undamped run's (measured with the far side reflecting, below), a little smaller as
+       alpha grows (damping brakes the footing while the load comes off).
        The far side (x = ``width``) is where the model stops, not where the ground does: in
        the discrete phase it is a transmitting boundary (``far_boundary``, default
        "transmitting": the roller keeps the soil from moving across it and viscous dashpots
        rho V_s per unit length on the vertical velocity let the shear waves of the punch and
-       of the unloading leave, Lysmer & Kuhlemeyer 1969, ``Roller(transmitting=True)``). As
-       a plain roller ("reflecting") it sends them back, and the intact soil rings in the
-       model's box until a beat of its modes happens to fall below the rest bar
+       of the unloading leave, Lysmer & Kuhlemeyer 1969, ``Roller(transmitting=True)``; the
+       held horizontal component still reflects pressure waves). As a plain roller
+       ("reflecting") it sends them back and the soil rings in the model's box for longer
        (docs/hybrid.md). The base stays fixed (a rough rigid base, which reflects) and the
        symmetry plane a roller (a plane of symmetry reflects by definition).
 Verification (H2 has no closed form)

@@ -45,9 +45,11 @@ class Roller:
 
     ``transmitting``: the boundary truncates a larger ground (not a symmetry plane, not a
     wall that is there): in the discrete phase its free component gets viscous dashpots
-    (``DiscreteState.set_transmitting``), so that the waves of the failure leave the model
-    as they would leave through the ground beyond instead of ringing in it. The continuum
-    (static) phase is the same either way.
+    (``DiscreteState.set_transmitting``; the boundary must run along x or y). On a roller
+    that holds the boundary's normal (the usual one) they absorb the shear waves that meet
+    it, which would leave through the ground beyond instead of ringing in the model; the
+    held normal still reflects pressure waves. The continuum (static) phase is the same
+    either way.
     """
 
     boundary: str
@@ -58,6 +60,9 @@ class Roller:
         if self.direction not in ("x", "y"):
             raise ModelError(f"Roller on '{self.boundary}': direction must be 'x' or 'y', "
                              f"not {self.direction!r}")
+        if not isinstance(self.transmitting, bool):
+            raise ModelError(f"Roller on '{self.boundary}': transmitting must be True or "
+                             f"False, not {self.transmitting!r}")
 
 
 @dataclass(frozen=True)

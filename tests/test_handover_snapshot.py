@@ -75,12 +75,30 @@ def test_a_transmitting_roller_gets_dashpots_on_its_free_component():
     impedance = np.sqrt(clay.shear_modulus * clay.density)
     on = np.flatnonzero(disc.dashpot[:, 1])
     assert np.isclose(disc.x[on, 0], 2.0).all() and len(on) == 2
-    assert disc.dashpot[:, 1].sum() == pytest.approx(impedance * 1.0, rel=1e-12)
+    assert disc.dashpot[on, 1] == pytest.approx([0.5 * impedance] * 2, rel=1e-12)  # L/2 each
     assert not disc.dashpot[:, 0].any()
-    with pytest.raises(ValueError, match="only a roller"):
+    # a second support holding the other component: no longer a roller
+    with pytest.raises(ValueError, match="held in both directions"):
         start_from(_snapshot(boundary_edges={**_snapshot().boundary_edges, **right},
-                             supports=(("base", True, True), ("right", True, True)),
+                             supports=(("base", True, True), ("right", True, False),
+                                       ("right", False, True)),
                              transmitting=("right",)), region=Region(everywhere=True))
+
+
+def test_a_transmitting_roller_holding_its_tangent_gets_the_pressure_impedance():
+    """The top (y = 1, length 2) a transmitting roller held in x, free in y, its normal: the
+    dashpots sum to sqrt((K + 4G/3) rho) x 2 m; an inclined boundary is refused."""
+    snap = _snapshot(supports=(("base", True, True), ("top", True, False)),
+                     smooth=("top",), transmitting=("top",), loads={})
+    disc = start_from(snap, region=Region(everywhere=True)).discrete
+    clay = snap.materials[0]
+    impedance = np.sqrt((clay.bulk_modulus + 4.0 * clay.shear_modulus / 3.0) * clay.density)
+    assert disc.dashpot[:, 1].sum() == pytest.approx(impedance * 2.0, rel=1e-12)
+    x = _snapshot().x.copy()
+    x[5, 1] = 1.1  # the top's right end lifted: slope 0.1
+    with pytest.raises(ValueError, match="does not run along x or y"):
+        start_from(_snapshot(x=x, supports=(("base", True, True), ("top", True, False)),
+                             transmitting=("top",), loads={}), region=Region(everywhere=True))
 
 
 def test_a_quadratic_cell_hands_over_its_area_weighted_mean():

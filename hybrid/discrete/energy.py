@@ -20,7 +20,7 @@ __all__ = ["mechanical_energy", "energy_excess", "energy_peak_ratio", "conservat
 #: plot labels of the ledger terms
 LABELS = {"kinetic": "kinetic", "strain": "strain", "contact_elastic": "contact (elastic)",
           "work_loads": "work of gravity and loads", "work_supports": "work of supports",
-          "damping": "damping (mass, boundary dashpots)", "friction": "friction",
+          "damping": "damping (mass, local, dashpots)", "friction": "friction",
           "contact_damping": "contact damping",
           "contact_normal_defect": "contact normal defect",
           "residual": "plastic dissipation (+ integration error)"}

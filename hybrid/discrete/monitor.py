@@ -39,7 +39,8 @@ def input_fault(state: DiscreteState) -> str | None:
     """What in the state's inputs makes a run meaningless (None: nothing found).
 
     Non-finite gravity, external forces, prescribed velocities or masses, a contact damping
-    ratio outside [0, 1], a negative or non-finite contact cohesion, malformed smooth walls
+    ratio outside [0, 1], a negative or non-finite contact cohesion or boundary dashpot,
+    malformed smooth walls
     (non-finite, a normal that is not a unit vector, s_min > s_max, wall nodes out of
     range), and tie groups with no mass that are free to move (their acceleration would be a
     force over zero).
@@ -64,6 +65,12 @@ def input_fault(state: DiscreteState) -> str | None:
         m = int(np.argmax(bad_c))
         return (f"contact cohesion {coh[m]!r} of material {m} is not a finite number >= 0 "
                 "kPa")
+    bad_c = ~((state.dashpot >= 0.0) & np.isfinite(state.dashpot))
+    if bad_c.any():
+        node = int(np.argwhere(bad_c)[0][0])
+        return (f"dashpot at node {node} is {state.dashpot[node].tolist()}: a transmitting "
+                "boundary's dashpots are finite numbers >= 0 kN s/m2 "
+                "(DiscreteState.set_transmitting)")
     fault = wall_fault(state)
     if fault is not None:
         return fault

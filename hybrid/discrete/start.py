@@ -155,18 +155,40 @@ def _walls(s: CellSnapshot, disc: DiscreteState,
     return np.array(rows, dtype=float).reshape(-1, WALL_WIDTH), wall_nodes
 
 
+#: the largest slope [-] of a transmitting boundary's edges from its axis (0.01: 0.6 deg)
+SLOPE = 0.01
+
+
 def _transmitting(s: CellSnapshot, disc: DiscreteState) -> None:
-    """Dashpots on the free component of the transmitting roller boundaries."""
+    """Dashpots on the free component of the transmitting roller boundaries.
+
+    A straight boundary along an axis: the shear wave's impedance when the roller holds its
+    normal (the free component its tangent), the pressure wave's when it holds its tangent;
+    any other boundary is refused.
+    """
     point_of_node = s.cells.reshape(-1)  # discrete node k sits at snapshot point [k]
-    held = {name: (hx, hy) for name, hx, hy in s.supports}
+    held: dict[str, list[bool]] = {}
+    for name, hx, hy in s.supports:  # every support on the boundary counts
+        flags = held.setdefault(name, [False, False])
+        flags[0], flags[1] = flags[0] or hx, flags[1] or hy
     for name in s.transmitting:
-        if name not in held or held[name][0] == held[name][1]:
-            raise ValueError(f"transmitting boundary {name!r}: only a roller (one component "
-                             "held) can transmit; make it Roller(..., transmitting=True)")
-        edges = [(*_edge_ends(point_of_node, disc, va, vb, e), int(e))
-                 for va, vb, e in s.boundary_edges.get(name, ())]
-        disc.set_transmitting(np.array(edges, dtype=np.int64).reshape(-1, 3),
-                              axis=1 if held[name][0] else 0)
+        hx, hy = held.get(name, [False, False])
+        if hx == hy:
+            raise ValueError(f"transmitting boundary {name!r} is held in "
+                             f"{'both directions' if hx else 'neither direction'}: a "
+                             "transmitting boundary is a roller, held in one direction only")
+        edges = np.array([(*_edge_ends(point_of_node, disc, va, vb, e), int(e))
+                          for va, vb, e in s.boundary_edges.get(name, ())],
+                         dtype=np.int64).reshape(-1, 3)
+        free = 1 if hx else 0
+        t = np.abs(disc.x[edges[:, 1]] - disc.x[edges[:, 0]])
+        # every edge within 0.01 rad of an axis: the free component the tangent or the normal
+        tangent = bool(np.all(t[:, 1 - free] <= SLOPE * t[:, free]))
+        if not (tangent or np.all(t[:, free] <= SLOPE * t[:, 1 - free])):
+            raise ValueError(f"transmitting boundary {name!r} does not run along x or y: its "
+                             "dashpots would mix the shear and the pressure wave (make it a "
+                             "straight axis-parallel roller boundary)")
+        disc.set_transmitting(edges, axis=free, normal=not tangent)
 
 
 def _edge_ends(point_of_node: np.ndarray, disc: DiscreteState, va: int, vb: int,

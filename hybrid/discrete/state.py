@@ -18,7 +18,13 @@ from typing import Any
 import numpy as np
 
 from hybrid.constitutive.softening import characteristic_length
-from hybrid.constitutive.table import TABLE_WIDTH, kernel_table, tension_cutoff
+from hybrid.constitutive.table import (
+    BULK_MODULUS,
+    SHEAR_MODULUS,
+    TABLE_WIDTH,
+    kernel_table,
+    tension_cutoff,
+)
 from hybrid.materials import GRAVITY, Material
 
 __all__ = ["DiscreteState", "from_mesh", "material_rows", "check_elements", "read_checkpoint",
@@ -270,19 +276,18 @@ class DiscreteState:
                 self.v[idx, d] = velocity[d]
         self.primed = False
 
-    def set_transmitting(self, edges, axis: int) -> None:
-        """Make boundary edges transmitting along ``axis`` (0: x, 1: y) with viscous dashpots.
+    def set_transmitting(self, edges: np.ndarray, axis: int, *, normal: bool = False) -> None:
+        """Give boundary edges viscous dashpots on component ``axis`` (0: x, 1: y).
 
         ``edges`` (m, 3) rows (node a, node b, element): each edge of length L gets the
-        dashpot rho V_s L / 2 = sqrt(G rho) L / 2 on component ``axis`` of both its nodes,
-        with the shear modulus G and density rho of its element (Lysmer & Kuhlemeyer 1969,
-        ASCE J. Eng. Mech. Div. 95(4): a shear wave travelling along the boundary's normal
-        leaves it without reflection when ``axis`` is the boundary's tangent). Meant for
-        the free component of a roller boundary that truncates a larger ground; repeated
-        calls add up.
+        dashpot rho V L / 2 on component ``axis`` of both its nodes, with the density rho
+        and wave speed V of its element: the shear wave's, sqrt(G rho) L / 2, when ``axis``
+        is the boundary's tangent; the pressure wave's, sqrt((K + 4 G / 3) rho) L / 2, with
+        ``normal`` (``axis`` the boundary's normal). A plane wave meeting the boundary along
+        its normal leaves without reflection (Lysmer & Kuhlemeyer 1969, ASCE J. Eng. Mech.
+        Div. 95(4)); waves meeting it obliquely are partly reflected. Meant for the free
+        component of a roller boundary that truncates a larger ground; repeated calls add up.
         """
-        from hybrid.constitutive.table import SHEAR_MODULUS
-
         edges = np.asarray(edges, dtype=np.int64).reshape(-1, 3)
         if axis not in (0, 1):
             raise ValueError(f"axis = {axis!r}: 0 (x) or 1 (y)")
@@ -290,7 +295,9 @@ class DiscreteState:
                            or edges[:, 2].min() < 0 or edges[:, 2].max() >= self.n_elements):
             raise ValueError("edges name nodes or elements that do not exist")
         mat = self.element_material[edges[:, 2]]
-        impedance = np.sqrt(self.material_table[mat, SHEAR_MODULUS] * self.density[mat])
+        shear = self.material_table[mat, SHEAR_MODULUS]
+        modulus = self.material_table[mat, BULK_MODULUS] + 4.0 * shear / 3.0 if normal else shear
+        impedance = np.sqrt(modulus * self.density[mat])
         length = np.linalg.norm(self.x[edges[:, 0]] - self.x[edges[:, 1]], axis=1)
         for end in (0, 1):
             np.add.at(self.dashpot[:, axis], edges[:, end], 0.5 * impedance * length)
