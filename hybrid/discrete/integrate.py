@@ -33,6 +33,19 @@ __all__ = ["stable_time_step", "critical_time_step", "element_frequencies", "CRI
            "DAMPED_CONTACT_MARGIN", "step", "prime", "kinetic_energy", "check_dt"]
 
 
+@numba.njit(cache=True, inline="always")
+def _new_velocity(v_old, force, m, dashpot, alpha, dt, c1, c2):
+    """v(t+dt/2) of a free component (the module docstring's damped central difference).
+
+    With the group's dashpot C > 0 on the component the update with -C v; otherwise the
+    mass-damped one with its coefficients c1, c2 (the same arithmetic as before dashpots).
+    """
+    if dashpot > 0.0:
+        return ((((2.0 - alpha * dt) * m - dashpot * dt) * v_old + 2.0 * dt * force)
+                / ((2.0 + alpha * dt) * m + dashpot * dt))
+    return c1 * v_old + c2 * force / m
+
+
 @numba.njit(cache=True, parallel=True)
 def _group_update(group_ptr, group_nodes, group_mass, internal_force, contact_force,
                   use_contact, external_force, use_external, gravity, fixed,
@@ -97,20 +110,8 @@ def _group_update(group_ptr, group_nodes, group_mass, internal_force, contact_fo
                 dly = -local_damping * abs(fy)
             elif voy < 0.0 and not fixy:
                 dly = local_damping * abs(fy)
-        if fixx:
-            vnx = pvx
-        elif cx > 0.0:
-            vnx = ((((2.0 - alpha * dt) * m - cx * dt) * vox + 2.0 * dt * (fx + dlx))
-                   / ((2.0 + alpha * dt) * m + cx * dt))
-        else:
-            vnx = c1 * vox + c2 * (fx + dlx) / m
-        if fixy:
-            vny = pvy
-        elif cy > 0.0:
-            vny = ((((2.0 - alpha * dt) * m - cy * dt) * voy + 2.0 * dt * (fy + dly))
-                   / ((2.0 + alpha * dt) * m + cy * dt))
-        else:
-            vny = c1 * voy + c2 * (fy + dly) / m
+        vnx = pvx if fixx else _new_velocity(vox, fx + dlx, m, cx, alpha, dt, c1, c2)
+        vny = pvy if fixy else _new_velocity(voy, fy + dly, m, cy, alpha, dt, c1, c2)
         for k in range(s, t):
             i = group_nodes[k]
             v[i, 0] = vnx
