@@ -306,11 +306,11 @@ docs-carsington-slide: setup
 	    --set yellow_clay_length=$$Y --set parts_above=194 --set part_height=0.5 "$$@" \
 	    || [ $$? -eq 4 ] || exit 1; cp $(DOCS_RUN)/$$name/summary.json docs/summaries/$$name.json; \
 	    done
-	# the same section (25 m) in whole lifts, softening in the discrete phase, 3 m mesh
-	$(CARS) --out $(DOCS_RUN)/carsington_design_height_Y25_softening_size3 --set safety=false \
-	    --set size=3 --set yellow_clay_length=25 --set discrete_softening=true \
-	    || [ $$? -eq 4 ] || exit 1
-	cp $(DOCS_RUN)/carsington_design_height_Y25_softening_size3/summary.json docs/summaries/
+	# the same section (25 m) in whole lifts, softening in the discrete phase, 3 and 2 m meshes
+	for size in 3 2; do name=carsington_design_height_Y25_softening_size$$size; \
+	    $(CARS) --out $(DOCS_RUN)/$$name --set safety=false --set size=$$size \
+	    --set yellow_clay_length=25 --set discrete_softening=true || [ $$? -eq 4 ] || exit 1; \
+	    cp $(DOCS_RUN)/$$name/summary.json docs/summaries/$$name.json; done
 	for md in 0.5 3; do $(CARS) --out $(DOCS_RUN)/carsington_damping$$md --set safety=false \
 	    --set mass_damping=$$md || [ $$? -eq 4 ] || exit 1; done
 	for c in carsington_softening carsington_softening_ur0.2 carsington_softening_ur1 \

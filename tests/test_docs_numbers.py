@@ -641,11 +641,14 @@ QUOTES: list[Quote] = [
      "slide a failed interface joined to the crest's top opens 0.1 m, first {} to {} s after the "
      "start. The crack is shallow: one interface, {} to {} m deep, within the last part placed. "
      "It fails in every run from the design height with {} m of yellow clay in whole lifts "
-     "(above), and in the same section ({} m) placed in whole lifts (3 m mesh, softening; the "
-     "widest opening at the crest's top {} m, the toe {} m, the crest drop {} m; "
-     "`docs/summaries/carsington_design_height_Y25_softening_size3.json`): on the 3 m mesh the "
-     "crack comes with the fill placed in parts, which puts a lift boundary every {} m where a "
-     "whole top lift is {} m thick, not with the section. The widest opening at the crest's "
+     "(above), and in the same section ({} m) placed in whole lifts (softening; on the 3 m "
+     "mesh the widest opening at the crest's top {} m, the toe {} m, the crest drop {} m, on "
+     "the 2 m mesh {}, {} and {} m; "
+     "`docs/summaries/carsington_design_height_Y25_softening_size3.json` and `_size2.json`): on "
+     "both meshes the crack comes with the fill placed in parts, which puts a lift boundary, "
+     "and so a row of elements, every {} m where a whole top lift is {} m thick, not with the "
+     "section. Whether it needs the parts' history of placement or only elements as thin as a "
+     "part at the crest is not told apart here. The widest opening at the crest's "
      "top during the slide, {} to {} m, is wider than the crack surveyed on the crest before "
      "the slide ({} to {} mm).", lambda: _design_height_cracks()),
     ("docs/carsington.md", "(from the design height with {} m of yellow clay in parts, on the 4, "
@@ -1652,17 +1655,20 @@ def _design_height_cracks() -> list[float]:
         raise ValueError("an opening no wider than the surveyed crack")
     if max(depth) >= min(parts):  # the words: within the last part placed
         raise ValueError("a crack deeper than a part")
-    same = _json("docs/summaries/carsington_design_height_Y25_softening_size3.json")
-    p = same["parameters"]
-    if (p["size"], p["yellow_clay_length"], p["parts_above"], p["discrete_softening"]) != (
-            3.0, 25.0, None, True) or not same["construction"]["completed"] or same["checks"][
-            "crack_at_crest"]["passed"] or same["mesh"]["lift_tops_m_OD"][-2:] != [198.0, 200.5]:
-        raise ValueError("not the 25 m section in whole lifts without a crack")
-    s = same["discrete"]
+    whole = []
+    for size in (3.0, 2.0):
+        same = _json(f"docs/summaries/carsington_design_height_Y25_softening_size{size:g}.json")
+        p = same["parameters"]
+        if (p["size"], p["yellow_clay_length"], p["parts_above"], p["discrete_softening"]) != (
+                size, 25.0, None, True) or not same["construction"]["completed"] or same[
+                "checks"]["crack_at_crest"]["passed"] or same["mesh"]["lift_tops_m_OD"][-2:] != [
+                198.0, 200.5]:
+            raise ValueError("not the 25 m section in whole lifts without a crack")
+        whole += [same["discrete"][k] for k in ("crest_crack_during_slide_surface_opening_m",
+                                                "toe_runout_m", "crest_drop_m")]
     return [min(first), max(first), min(depth), max(depth),
-            _yellow_clay_length("carsington_design_height"), p["yellow_clay_length"],
-            s["crest_crack_during_slide_surface_opening_m"], s["toe_runout_m"],
-            s["crest_drop_m"], *parts, *top_lift, min(widest), max(widest), *surveyed]
+            _yellow_clay_length("carsington_design_height"), p["yellow_clay_length"], *whole,
+            *parts, *top_lift, min(widest), max(widest), *surveyed]
 
 
 def _parts_samples(size: str) -> list[dict[str, Any]]:
