@@ -100,6 +100,10 @@ class CellSnapshot:
                              "|det J|): an inverted or degenerate cell, or areas not filled in")
         if len(self.material_names) != len(self.materials):
             raise ValueError("CellSnapshot: one material name per material")
+        unsupported = set(self.transmitting) - {name for name, _, _ in self.supports}
+        if unsupported:
+            raise ValueError(f"CellSnapshot.transmitting names {sorted(unsupported)} without a "
+                             "support: a transmitting boundary is a roller support's")
         if n and not 0 <= self.material.min() <= self.material.max() < len(self.materials):
             raise ValueError(f"CellSnapshot.material must index the {len(self.materials)} "
                              "materials")

@@ -85,6 +85,12 @@ def test_a_transmitting_roller_gets_dashpots_on_its_free_component():
                              transmitting=("right",)), region=Region(everywhere=True))
 
 
+def test_a_transmitting_boundary_without_a_support_is_refused():
+    """A snapshot naming a transmitting boundary that no support holds."""
+    with pytest.raises(ValueError, match="without a support"):
+        _snapshot(transmitting=("top",))
+
+
 def test_a_transmitting_roller_holding_its_tangent_gets_the_pressure_impedance():
     """The top (y = 1, length 2) a transmitting roller held in x, free in y, its normal: the
     dashpots sum to sqrt((K + 4G/3) rho) x 2 m; an inclined boundary is refused."""
