@@ -173,8 +173,8 @@ class Parameters(CaseParameters):
     #                        mesh study of the collapse load does)
     far_boundary: str = param("transmitting", choices=("transmitting", "reflecting"))  # the
     #                       far side in the discrete phase: viscous dashpots on its free
-    #                       (vertical) component let waves leave (the header), or a plain
-    #                       roller that reflects them
+    #                       (vertical) component let shear waves leave (the header), or a
+    #                       plain roller that reflects them
     contact_damping: float = param(0.2, ge=0, le=1)  # normal contact damping ratio zeta [-]
     interface_cohesion: float | None = None  # bond cohesion [kPa] (None: c)
     interface_phi: float | None = None  # bond friction angle [deg] (None: phi)

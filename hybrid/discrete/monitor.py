@@ -40,10 +40,9 @@ def input_fault(state: DiscreteState) -> str | None:
 
     Non-finite gravity, external forces, prescribed velocities or masses, a contact damping
     ratio outside [0, 1], a negative or non-finite contact cohesion or boundary dashpot,
-    malformed smooth walls
-    (non-finite, a normal that is not a unit vector, s_min > s_max, wall nodes out of
-    range), and tie groups with no mass that are free to move (their acceleration would be a
-    force over zero).
+    malformed smooth walls (non-finite, a normal that is not a unit vector, s_min > s_max,
+    wall nodes out of range), and tie groups with no mass that are free to move (their
+    acceleration would be a force over zero).
     """
     for name in ("gravity", "external_force", "prescribed_velocity", "mass"):
         values = np.asarray(getattr(state, name))
@@ -65,9 +64,9 @@ def input_fault(state: DiscreteState) -> str | None:
         m = int(np.argmax(bad_c))
         return (f"contact cohesion {coh[m]!r} of material {m} is not a finite number >= 0 "
                 "kPa")
-    bad_c = ~((state.dashpot >= 0.0) & np.isfinite(state.dashpot))
-    if bad_c.any():
-        node = int(np.argwhere(bad_c)[0][0])
+    bad_d = ~((state.dashpot >= 0.0) & np.isfinite(state.dashpot))
+    if bad_d.any():
+        node = int(np.argwhere(bad_d)[0][0])
         return (f"dashpot at node {node} is {state.dashpot[node].tolist()}: a transmitting "
                 "boundary's dashpots are finite numbers >= 0 kN s/m2 "
                 "(DiscreteState.set_transmitting)")

@@ -11,10 +11,10 @@ What is carried:
   * the snapshot's materials (the strengths in force), supports (the nodes on the boundary
     are held in the directions given; a straight roller boundary also becomes a smooth
     rigid wall for every element, ``hybrid.discrete.contact.walls``, and a transmitting one
-    gets viscous dashpots on its free component, ``DiscreteState.set_transmitting``), surface
-    loads
-    (consistent nodal forces on each boundary edge of its element, at the current geometry,
-    kept in ``load_forces`` so that a load history can scale them), gravity;
+    gets viscous dashpots on its free component, ``DiscreteState.set_transmitting``),
+    surface loads (consistent nodal forces on each boundary edge of its element, at the
+    current geometry, kept in ``load_forces`` so that a load history can scale them),
+    gravity;
   * velocities start at zero.
 The quadratic continuum field becomes linear elements with a constant stress: the start is
 close to, not exactly in, its own equilibrium (:func:`hybrid.discrete.settle.settle` brings it
