@@ -139,7 +139,7 @@ def _walls(s: CellSnapshot, disc: DiscreteState,
 
     rows: list[np.ndarray] = []
     nodes_of: list[np.ndarray] = []
-    held = {name: (hx, hy) for name, hx, hy in s.supports}
+    held = _held_directions(s)
     centroids = disc.element_centroids()
     for name in s.smooth:
         nodes = boundary_nodes.get(name)
@@ -167,12 +167,9 @@ def _transmitting(s: CellSnapshot, disc: DiscreteState) -> None:
     any other boundary is refused.
     """
     point_of_node = s.cells.reshape(-1)  # discrete node k sits at snapshot point [k]
-    held: dict[str, list[bool]] = {}
-    for name, hx, hy in s.supports:  # every support on the boundary counts
-        flags = held.setdefault(name, [False, False])
-        flags[0], flags[1] = flags[0] or hx, flags[1] or hy
+    held = _held_directions(s)
     for name in s.transmitting:
-        hx, hy = held.get(name, [False, False])
+        hx, hy = held.get(name, (False, False))
         if hx == hy:
             raise ValueError(f"transmitting boundary {name!r} is held in "
                              f"{'both directions' if hx else 'neither direction'}: a "
@@ -189,6 +186,15 @@ def _transmitting(s: CellSnapshot, disc: DiscreteState) -> None:
                              "dashpots would mix the shear and the pressure wave (make it a "
                              "straight axis-parallel roller boundary)")
         disc.set_transmitting(edges, axis=free, normal=not tangent)
+
+
+def _held_directions(s: CellSnapshot) -> dict[str, tuple[bool, bool]]:
+    """(x held, y held) of each supported boundary, every support on it counted."""
+    held: dict[str, tuple[bool, bool]] = {}
+    for name, hx, hy in s.supports:
+        was = held.get(name, (False, False))
+        held[name] = (was[0] or hx, was[1] or hy)
+    return held
 
 
 def _edge_ends(point_of_node: np.ndarray, disc: DiscreteState, va: int, vb: int,
