@@ -9,8 +9,12 @@ SHELL := /bin/bash
 SYS_PY := /usr/bin/python3
 VENV := .venv
 PY := $(VENV)/bin/python
+# libopenblas0-serial: an optimised BLAS/LAPACK in place of the reference one that the others
+# pull in (MUMPS factorises the continuum's stiffness about twice as fast with it: docs/
+# performance.md); the serial build, so that it adds no threads beside numba's
 DEB_PKGS := python3-dolfinx python3-petsc4py python3-mpi4py python3-gmsh python3-meshio \
-            python3-numba python3-matplotlib python3-pytest python3-venv python3-h5py
+            python3-numba python3-matplotlib python3-pytest python3-venv python3-h5py \
+            libopenblas0-serial
 SUDO := $(shell [ "$$(id -u)" = 0 ] || echo sudo)
 export NUMBA_CACHE_DIR ?= $(CURDIR)/.cache/numba
 export OMP_WAIT_POLICY ?= passive

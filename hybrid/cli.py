@@ -27,6 +27,18 @@ def _version(module: str) -> str:
     return str(getattr(mod, "__version__", "?"))
 
 
+def _blas() -> str:
+    """The BLAS and LAPACK libraries this process has loaded (numpy's and PETSc's)."""
+    try:
+        with open("/proc/self/maps") as maps:
+            fields = [line.split(maxsplit=5) for line in maps]
+    except OSError:
+        return "unknown (no /proc/self/maps)"
+    paths = {f[5].strip() for f in fields if len(f) == 6
+             and any(word in f[5].rsplit("/", 1)[-1] for word in ("blas", "lapack"))}
+    return ", ".join(sorted(paths)) or "none loaded"
+
+
 def info() -> dict[str, str]:
     """Versions and runtime facts users report with a bug."""
     facts = {"hybrid": hybrid.__version__, "python": sys.version.split()[0],
@@ -42,6 +54,7 @@ def info() -> dict[str, str]:
     facts["numba cache dir"] = os.environ.get("NUMBA_CACHE_DIR", "")
     facts["MPI size"] = str(MPI.COMM_WORLD.size)
     facts["MPI library"] = MPI.Get_library_version().splitlines()[0].strip()
+    facts["BLAS"] = _blas()
     facts["ffmpeg"] = shutil.which("ffmpeg") or "not found (animations as GIF only)"
     return facts
 

@@ -48,7 +48,7 @@ def test_cli_info():
     result = _run([PYTHON, "-m", "hybrid", "info"])
     assert result.returncode == 0, result.stderr
     for word in ("dolfinx", "ufl", "basix", "petsc4py", "numba", "numpy", "gmsh", "meshio",
-                 "numba threads", "MPI size", "ffmpeg"):
+                 "numba threads", "MPI size", "BLAS", "ffmpeg"):
         assert word in result.stdout
 
 
