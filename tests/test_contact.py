@@ -20,7 +20,7 @@ from hybrid.discrete.contact import (
     rigid_contact_mass,
 )
 from hybrid.discrete.contact.forces import ContactBuffers, add_contact_forces
-from hybrid.discrete.contact.polygon import MAXV, overlap_geometry
+from hybrid.discrete.contact.polygon import MAXV, convex_apart, overlap_geometry
 
 GEOM_TOL = 1e-12  # exact geometry, O(1) coordinates: round-off only
 
@@ -168,6 +168,47 @@ def test_normal_is_area_gradient_random_pairs():
         assert ar2 == pytest.approx(ar, abs=GEOM_TOL)
         np.testing.assert_allclose([hx, hy], [-gx, -gy], atol=GEOM_TOL)
     assert checked > 100
+
+
+def test_separating_axis_agrees_with_the_clipping():
+    # convex_apart (the separating-axis test before the clipping) must never call apart two
+    # polygons whose clipped overlap has area, and must call apart the touching neighbours
+    # of a conforming patch (they only touch: overlap area 0 exactly; the clipping alone
+    # returns at most a sliver of round-off area for them, GEOM_TOL). Random convex quads
+    # and triangles, placed at random (mostly overlapping or apart) and as neighbours of
+    # distorted conforming grids (sharing an edge or one vertex, coordinates bit-identical
+    # at the shared vertices as in a tied discrete mesh).
+    rng = np.random.default_rng(11)
+    work = np.empty((4, MAXV, 3))
+    called_apart_with_area = 0
+    for _ in range(2000):
+        a = rotated_square(0, 0, rng.uniform(0.5, 1.5), rng.uniform(0, np.pi))
+        a[rng.integers(4)] += rng.uniform(-0.15, 0.15, 2)
+        b = rotated_square(*rng.uniform(-1.5, 1.5, 2), rng.uniform(0.5, 1.5), rng.uniform(0, 3))
+        nb = 3 if rng.random() < 0.3 else 4
+        area = overlap_geometry(a, 4, b[:nb], nb, work)[0]
+        if convex_apart(a, 4, b[:nb], nb):
+            called_apart_with_area += area > 0.0
+        else:
+            assert area > 0.0  # exact for convex polygons in general position
+    assert called_apart_with_area == 0
+    # distorted 6 x 6 grids: every edge and diagonal neighbour pair only touches
+    touching = 0
+    for _ in range(20):
+        g = np.stack(np.meshgrid(np.arange(7.0), np.arange(7.0), indexing="ij"), axis=-1)
+        g[1:-1, 1:-1] += rng.uniform(-0.2, 0.2, (5, 5, 2))
+        for i in range(6):
+            for j in range(6):
+                q = np.array([g[i, j], g[i + 1, j], g[i + 1, j + 1], g[i, j + 1]])
+                for di, dj in ((1, 0), (0, 1), (1, 1), (1, -1)):
+                    k, m = i + di, j + dj
+                    if not (0 <= k < 6 and 0 <= m < 6):
+                        continue
+                    r = np.array([g[k, m], g[k + 1, m], g[k + 1, m + 1], g[k, m + 1]])
+                    assert overlap_geometry(q, 4, r, 4, work)[0] <= GEOM_TOL
+                    assert convex_apart(q, 4, r, 4) and convex_apart(r, 4, q, 4)
+                    touching += 1
+    assert touching == 20 * (2 * 6 * 5 + 2 * 5 * 5)
 
 
 # ---------------------------------------------------------------------------------------
