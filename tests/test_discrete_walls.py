@@ -186,3 +186,27 @@ def test_a_malformed_wall_is_refused_before_the_run(walls, wall_nodes, message):
         with ExplicitSolver(st, RunOptions(contact=True)) as solver:
             solver.run(until_time=0.01)
     assert st.step == 0
+
+
+def test_only_the_elements_near_a_wall_are_looked_at_with_the_same_result():
+    """The walls' forces computed for the elements near a wall (``near_walls``, chosen with
+    the contact search's margin at its refreshes) give the state and ledger of the search
+    over every element bit for bit, while the block flies to the wall, bounces and leaves;
+    the free block is left out while it is far from the wall."""
+    out = {}
+    for restricted in (True, False):
+        st, free = _thrown_block(zeta=0.2)
+        sizes = []
+        with ExplicitSolver(st, RunOptions(contact=True)) as solver:
+            if not restricted:  # every element, every refresh
+                solver._near_walls = lambda x, en, walls, margin: np.arange(en.shape[0])
+            while st.time < 0.6:
+                solver.step()
+                sizes.append(solver._wbuf.elements.size)
+        out[restricted] = st, sizes
+    (a, near), (b, every) = out[True], out[False]
+    for name in ("x", "v", "stress", "ledger", "group_energy"):
+        assert np.array_equal(getattr(a, name), getattr(b, name)), name
+    # the held block's element only while the block is far, then with the block's two
+    # elements on the wall's side (its other two never come within the margin)
+    assert min(every) == 5 and min(near) == 1 and max(near) == 3

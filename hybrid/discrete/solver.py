@@ -247,12 +247,13 @@ class ExplicitSolver:
                 raise ValueError("contact=True but hybrid.discrete.contact is not available"
                                  ) from err
             from hybrid.discrete.contact.energy import contact_step_works
-            from hybrid.discrete.contact.walls import WallBuffers, add_wall_forces
+            from hybrid.discrete.contact.walls import WallBuffers, add_wall_forces, near_walls
 
             self._cmod = cmod
             self._contact_step_works = contact_step_works
             self._add_contact_forces = add_contact_forces
             self._add_wall_forces = add_wall_forces
+            self._near_walls = near_walls
             self._wbuf = WallBuffers()
         dt = o.dt
         chosen = dt is None and not state.dt > 0.0  # else given, or a continued state's
@@ -322,6 +323,8 @@ class ExplicitSolver:
             from hybrid.discrete.contact.walls import held_walls
 
             st.walls, st.wall_nodes = held_walls(st.walls, st.wall_nodes, st.fixed)
+        if self.contact:  # every element, until the next refresh of the contact search
+            self._wbuf.elements = np.arange(st.n_elements)
 
     def step(self) -> None:
         """Advance the state by one step: contacts, forces, update, ledger, splitting."""
@@ -342,6 +345,9 @@ class ExplicitSolver:
                 st.contact_shear = cmod.carry_contact_history(st.contact_pairs,
                                                               st.contact_shear, pairs)
                 st.contact_pairs = pairs
+                if st.walls.shape[0]:  # the elements that can meet a wall before the next
+                    self._wbuf.elements = self._near_walls(st.x, st.element_nodes, st.walls,
+                                                           margin)
             self._cforce[:] = 0.0
             n_pairs = st.contact_pairs.shape[0] + st.walls.shape[0]  # forces to account for
             if n_pairs:

@@ -29,9 +29,9 @@ functions there. The stored energy is ``k_n A^2 / (2 L_c)`` as for a pair
 The walls act in runs with contact (``RunOptions.contact``), their forces added to the
 contact forces and booked in the same ledger terms. The loop is serial over the elements
 (the force of one element goes to its own nodes: no race, a fixed order, the same sums for
-any thread count) and cheap: an element with no node beyond any plane costs a few
-multiplications. The work arrays belong to the caller (``WallBuffers``): a step allocates
-nothing.
+any thread count) and runs over the elements near a wall only (``near_walls``, chosen with
+the contact search's margin at each of its refreshes). The work arrays belong to the caller
+(``WallBuffers``): a step allocates nothing.
 """
 
 from __future__ import annotations
@@ -45,17 +45,60 @@ import hybrid  # noqa: F401  (sets NUMBA_CACHE_DIR / OMP_WAIT_POLICY before numb
 from hybrid.discrete.contact.law import _shape_weights, point_law
 
 __all__ = ["WALL_WIDTH", "WallBuffers", "add_wall_forces", "wall_energy", "make_wall",
-           "held_walls"]
+           "held_walls", "near_walls"]
 
 WALL_WIDTH = 5  # [n_x, n_y, c, s_min, s_max]
 
 
 class WallBuffers:
-    """Scratch of ``add_wall_forces``: one element's vertices and shape-function weights."""
+    """Scratch of ``add_wall_forces``: one element's vertices and shape-function weights.
+
+    ``elements``: the elements near a wall (``near_walls``), the only ones the forces are
+    computed for; None until the caller has chosen them.
+    """
 
     def __init__(self) -> None:
         self.poly = np.empty((4, 2))
         self.w = np.empty((1, 4))
+        self.elements: np.ndarray | None = None
+
+
+@njit(cache=True)
+def _near_walls(x, element_nodes, walls, margin, out):
+    """Write the elements near a wall into ``out``, ascending; return how many.
+
+    Near: a node closer than ``margin`` (|n_x| + |n_y|) to a wall's plane, or beyond it.
+    """
+    n = 0
+    for e in range(element_nodes.shape[0]):
+        near = False
+        for k in range(walls.shape[0]):
+            reach = margin * (abs(walls[k, 0]) + abs(walls[k, 1]))
+            for a in range(element_nodes.shape[1]):
+                i = element_nodes[e, a]
+                if walls[k, 0] * x[i, 0] + walls[k, 1] * x[i, 1] - walls[k, 2] < reach:
+                    near = True
+                    break
+            if near:
+                break
+        if near:
+            out[n] = e
+            n += 1
+    return n
+
+
+def near_walls(x: np.ndarray, element_nodes: np.ndarray, walls: np.ndarray,
+               margin: float) -> np.ndarray:
+    """The elements (ascending) with a node near a wall's plane or beyond it.
+
+    Near: within ``margin`` (|n_x| + |n_y|) [m], the farthest a node moving by at most
+    ``margin`` along each axis (as the contact search's boxes are grown) can come toward
+    an inclined plane. The only elements that can meet a wall before they have moved that
+    far: the caller chooses them with the margin of the contact search and again at each of
+    its refreshes (``find_contact_pairs``), and ``add_wall_forces`` looks at them alone.
+    """
+    out = np.empty(element_nodes.shape[0], dtype=np.int64)
+    return out[:_near_walls(x, element_nodes, walls, float(margin), out)].copy()
 
 
 @njit(cache=True)
@@ -150,16 +193,16 @@ def _engaged(x, element_nodes, fixed, e, nx, ny, c, s_min, s_max):
 
 @njit(cache=True)
 def _wall_kernel(x, v, mass, element_nodes, element_material, contact_table, fixed, walls, dt,
-                 force, damping_force, poly, w):
-    """Add the wall forces to ``force`` and their damping part to ``damping_force``.
+                 force, damping_force, poly, w, elements):
+    """Add the wall forces on ``elements`` to ``force``, their damping part to ``damping_force``.
 
     Returns (elements in contact, stored energy k_n A^2 / (2 L_c) summed).
     """
-    n_el = element_nodes.shape[0]
     nen = element_nodes.shape[1]
     n_active = 0
     energy = 0.0
-    for e in range(n_el):
+    for q in range(elements.shape[0]):
+        e = elements[q]
         for k in range(walls.shape[0]):
             nx = walls[k, 0]
             ny = walls[k, 1]
@@ -206,14 +249,17 @@ def add_wall_forces(x: np.ndarray, v: np.ndarray, mass: np.ndarray, element_node
                     damping_force: np.ndarray, buffers: WallBuffers) -> int:
     """Add the forces of the smooth walls on the elements to ``force`` (n_nodes, 2).
 
-    ``damping_force`` receives (added) their damping part as applied, for the energy ledger
-    (``mid_step_work``). Returns the number of element-wall contacts. Unchecked (the hot
-    path of ``ExplicitSolver.step``; the state's arrays are checked when it is made or
-    loaded).
+    Only the elements of ``buffers.elements`` (``near_walls``) are looked at (all of them
+    while it is None). ``damping_force`` receives (added) their damping part as applied, for
+    the energy ledger (``mid_step_work``). Returns the number of element-wall contacts.
+    Unchecked (the hot path of ``ExplicitSolver.step``; the state's arrays are checked when
+    it is made or loaded).
     """
+    elements = (np.arange(element_nodes.shape[0]) if buffers.elements is None
+                else buffers.elements)
     return int(_wall_kernel(x, v, mass, element_nodes, element_material, contact_table, fixed,
                             walls, float(dt), force, damping_force, buffers.poly,
-                            buffers.w)[0])
+                            buffers.w, elements)[0])
 
 
 def wall_energy(x: np.ndarray, element_nodes: np.ndarray, element_material: np.ndarray,
@@ -226,7 +272,7 @@ def wall_energy(x: np.ndarray, element_nodes: np.ndarray, element_material: np.n
     dummy = np.zeros((1, 2))
     return float(_wall_kernel(x, np.zeros_like(x), np.ones(x.shape[0]), element_nodes,
                               element_material, contact_table, fixed, walls, 0.0, dummy,
-                              dummy, b.poly, b.w)[1])
+                              dummy, b.poly, b.w, np.arange(element_nodes.shape[0]))[1])
 
 
 def make_wall(points: np.ndarray, inside: np.ndarray, axis: int,
