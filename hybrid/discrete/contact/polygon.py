@@ -182,6 +182,15 @@ def _clip_pass(src, n, first, dst, ax, ay, ex, ey, j):
     return m
 
 
+@njit(cache=True, inline="always")
+def _edge(poly, n, j):
+    """Edge ``j`` of polygon ``poly[:n]``: its start (ax, ay) and direction (ex, ey)."""
+    ax = poly[j, 0]
+    ay = poly[j, 1]
+    j1 = j + 1 if j + 1 < n else 0
+    return ax, ay, poly[j1, 0] - ax, poly[j1, 1] - ay
+
+
 @njit(cache=True)
 def _clip_convex(sub, ns, clip, nc, out, tmp):
     """Sutherland-Hodgman clipping of convex ``sub[:ns]`` by convex ``clip[:nc]`` (both ccw).
@@ -194,11 +203,7 @@ def _clip_convex(sub, ns, clip, nc, out, tmp):
     """
     n = ns
     for j in range(nc):
-        ax = clip[j, 0]
-        ay = clip[j, 1]
-        j1 = j + 1 if j + 1 < nc else 0
-        ex = clip[j1, 0] - ax
-        ey = clip[j1, 1] - ay
+        ax, ay, ex, ey = _edge(clip, nc, j)
         if j == 0:
             if (nc - 1) % 2 == 0:
                 n = _clip_pass(sub, n, True, out, ax, ay, ex, ey, j)
@@ -353,11 +358,7 @@ def _edge_separates(pc, nc, ps, ns):
     The side test is the clipping's own (``_clip_pass``: inside when ``d >= 0``).
     """
     for j in range(nc):
-        ax = pc[j, 0]
-        ay = pc[j, 1]
-        j1 = j + 1 if j + 1 < nc else 0
-        ex = pc[j1, 0] - ax
-        ey = pc[j1, 1] - ay
+        ax, ay, ex, ey = _edge(pc, nc, j)
         outside = True
         for k in range(ns):
             if ex * (ps[k, 1] - ay) - ey * (ps[k, 0] - ax) > 0.0:
