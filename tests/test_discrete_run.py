@@ -358,3 +358,23 @@ def test_loads_put_on_by_a_check_act():
     assert x_mean == pytest.approx(0.5 / mass * t ** 2, rel=0.01)
     # the load's work, as the kernel counts it (force times the step's displacement)
     assert res.history["work_loads"][-1] == pytest.approx(1.0 * x_mean, rel=1e-9)
+
+
+def test_numba_cache_is_kept_per_version_of_the_sources(tmp_path):
+    """numba checks only a jitted function's own file: a kernel inlining a function of another
+    file would be loaded stale after that file changed. The cache folder is a subfolder named
+    by a hash of the package's sources, which any change of any source file changes."""
+    import os
+    import shutil
+
+    import hybrid
+
+    assert os.path.basename(os.environ["NUMBA_CACHE_DIR"]) == hybrid._source_stamp(
+        os.path.dirname(hybrid.__file__))
+    copy = tmp_path / "hybrid"
+    shutil.copytree(os.path.dirname(hybrid.__file__), copy,
+                    ignore=shutil.ignore_patterns("__pycache__"))
+    before = hybrid._source_stamp(str(copy))
+    polygon = copy / "discrete" / "contact" / "polygon.py"
+    polygon.write_text(polygon.read_text() + "\n# an edit\n")
+    assert hybrid._source_stamp(str(copy)) != before
