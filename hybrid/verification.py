@@ -291,10 +291,11 @@ SERIES: dict[str, tuple[str, str]] = {
           "15 % against the aluminium-rod laws of arXiv:1512.05180; Lube et al.'s (2005) sand "
           "laws, known only as quoted by others, are reported beside them. In the full run the "
           "bar is met for the final height at every aspect ratio; the run-out is one packing's "
-          "(docs/hybrid.md compares three packings, whose run-outs scatter about as much as "
+          "(docs/hybrid.md compares three packings, whose run-outs scatter up to as much as "
           "the bar), and runs beyond the rods' law at a = 2 (the table gives by how much; "
-          "the rods give no run-out law at a = 0.5). The run-out moves by more than the bar with "
-          "the contact angle's calibration spread (about 2 deg between packings) and grows as "
+          "the rods give no run-out law at a = 0.5). Over the contact angle's calibration "
+          "uncertainty (about 2 deg either side: the standard error of the calibration's mean "
+          "curve) the run-out moves by more than the bar, and it grows as "
           "the grains get finer (not converged), so it is compared at grains of L0 / 20. The "
           "reduced run (`hybrid verify` without `--full`) uses coarser grains."),
 }
@@ -502,6 +503,8 @@ def run_case(case_id: str, out_dir: str | Path, full: bool = False, *,
             raise ValueError(f"override(s) {', '.join(unknown)} not parameters of "
                              f"{result['case_script']} (known: {', '.join(sorted(known))}); "
                              f"fix CASES['{case.id}'] in hybrid/verification.py")
+        for stale in out.glob("*.png"):  # an earlier run's figure must not stand for this one's
+            stale.unlink()
         summary = module.main(out=out, **overrides)
         if not isinstance(summary, CaseSummary):
             raise TypeError(f"{result['case_script']}: main() returned a "
@@ -520,7 +523,7 @@ def run_case(case_id: str, out_dir: str | Path, full: bool = False, *,
         figures += [p for p in _curve_figures(summary, out, case.id) if p not in figures]
         if case.figures is not None:
             figures += [Path(p) for p in case.figures(summary, out) if Path(p) not in figures]
-        result["figures"] = [str(p) for p in figures
+        result["figures"] = [str(p) for p in sorted(figures)
                              if any(p.match(pattern) for pattern in case.keep)]
         result["status"] = _status(result["rows"])
     except Exception as err:  # a broken case is a result of the report, not a crash

@@ -116,7 +116,7 @@ def test_granular_collapse_against_experiments(case, tmp_path, aspect):
     the 15 % bar of the cited experiment (the rods, arXiv:1512.05180):
 
     * the final height at every aspect ratio (H0 for a < 0.65): within the bar;
-    * the run-out at a = 1 and 2: one run is one packing, whose run-out scatters about as
+    * the run-out at a = 1 and 2: one run is one packing, whose run-out scatters up to as
       much as the bar between packings; the bar is judged in docs/hybrid.md on three packings
       (not met), not asserted here;
 

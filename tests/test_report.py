@@ -4,6 +4,7 @@ import dataclasses
 import json
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -180,6 +181,21 @@ def test_failing_row_gives_exit_code_1(tmp_path, monkeypatch):
     code = cli.main(["verify", "--only", "C1", "--out", str(tmp_path / "r2"),
                      "--results", str(tmp_path / "runs2")])
     assert code == 1
+
+
+def test_a_figure_left_by_an_earlier_run_is_not_reported(tmp_path, monkeypatch):
+    """A case run again into the same folder reports only the figures of this run, in the
+    order of their names: a PNG an earlier run left there is removed first (it could stand
+    for a figure this run would draw, or one it no longer draws)."""
+    kept = dataclasses.replace(verification.CASES["C1"], keep=("*.png",))
+    monkeypatch.setitem(verification.CASES, "C1", kept)
+    first = verification.run_case("C1", tmp_path / "runs")
+    folder = tmp_path / "runs" / "C1"
+    (folder / "load_settlement_from_an_earlier_run.png").write_bytes(PNG_SIGNATURE)
+    again = verification.run_case("C1", tmp_path / "runs")
+    assert not (folder / "load_settlement_from_an_earlier_run.png").exists()
+    assert again["figures"] == first["figures"] == sorted(first["figures"])
+    assert first["figures"] and all(_is_png(Path(f)) for f in again["figures"])
 
 
 def test_statuses_of_missing_broken_and_reported_cases(tmp_path, monkeypatch):
