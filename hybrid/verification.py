@@ -519,7 +519,7 @@ def run_case(case_id: str, out_dir: str | Path, full: bool = False, *,
             checks.update(case.extra(summary))
         result["rows"] = _rows(checks)
         result["stats"] = _stats(summary)
-        figures = sorted(out.glob("*.png"))
+        figures = list(out.glob("*.png"))
         figures += [p for p in _curve_figures(summary, out, case.id) if p not in figures]
         if case.figures is not None:
             figures += [Path(p) for p in case.figures(summary, out) if Path(p) not in figures]
