@@ -65,13 +65,14 @@ Verification (asserted in ``tests/test_carsington.py``)
       far less (docs/carsington.md says why).
     Beside published values, no bar (docs/carsington.md): fill level (thesis: the design crest;
     observed: the slip at about 199.5 m OD, on the modelled dam whatever the analysis), node A
-    (thesis about 150 mm at 198, 400-450 mm at 200.5 m OD; observed 200-275 mm; Chen's finite
-    elements 100-150 mm), F.
+    (thesis about 150 mm at 198, 400-450 mm at 200.5 m OD; observed 200-275 mm; Chen's (1990)
+    finite elements 100-150 mm), F.
 References
     G. S. Bala (2008), thesis, chapter 6, Tables 6.2, 6.3; A. W. Skempton & P. R. Vaughan (1993),
     The failure of Carsington Dam, Geotechnique 43(1); D. M. Potts, G. T. Dounias & P. R. Vaughan
     (1990), Geotechnique; Z. Chen, N. R. Morgenstern & D. H. Chan (1992), Canadian Geotechnical
-    Journal; Environment Agency, Lessons from historical dam incidents.
+    Journal; Environment Agency, Lessons from historical dam incidents (quoting A. W. Skempton
+    1985).
 """
 
 from __future__ import annotations
@@ -135,7 +136,7 @@ PUBLISHED_PROBLEM = (*BUILT_AS_PUBLISHED, "no_tension", "softening", "discrete_s
 OBSERVED_PROBLEM = (*BUILT_AS_PUBLISHED,
                     *(f.name for f in fields(references.CarsingtonTable62)))
 # bar on the post-failure movements against the observed ones [-]: the observations are
-# approximate ("about 10 m" of crest drop, 11-13 m at the toe, read off the surveyed section),
+# approximate ("about 10 m" of crest drop; 11 m (EA) to 13 m (thesis 6.2.4) at the toe),
 # so an analysis within 30 % of them reproduces the size of the slide, not its detail
 OBSERVED_BAR = 0.30
 
@@ -150,7 +151,7 @@ class Parameters(references.CarsingtonTable62, references.CarsingtonTable63):
     lifts: int = param(5, ge=1)  # lifts after the foundation's stage (thesis: 6 stages in all)
     parts_above: float | None = param(None, gt=0)  # the fill above this level [m OD] in parts
     part_height: float = param(0.5, gt=0)  # the parts' largest height [m] (with parts_above)
-    yellow_clay_thickness: float = param(1.5, gt=0)  # [m] (published 1-2 m)
+    yellow_clay_thickness: float = param(1.5, gt=0)  # [m] (assumed; weathered 1-2 m deep)
     yellow_clay_length: float | None = param(36.0, gt=0)  # from the boot [m] (None: toe + 30 m)
     boot_length: float = param(35.0, gt=0)  # upstream end of the boot from the axis [m] (assumed)
     no_tension: bool = True  # tension cut-off 0 in the fill and the clays (thesis 6.3.1.1)
@@ -182,7 +183,7 @@ class Parameters(references.CarsingtonTable62, references.CarsingtonTable63):
 
 
 def materials(p: Parameters) -> dict[str, Material]:
-    """Table 6.3 as in the module's Problem (the berm as Zone II: the thesis's mesh has no berm).
+    """Table 6.3 as in the module's Problem (the berm as Zone II: the thesis mentions no berm).
 
     Discrete phase: bonds as strong as the material, a tension cut-off of c for the phi = 0
     clays (assumed); separated elements slide at Table 6.2's residual angles (Zone I and the

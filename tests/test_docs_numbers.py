@@ -566,12 +566,13 @@ QUOTES: list[Quote] = [
            *(_yellow_clay_length(f"carsington_parts_size3_Y{y}") for y in (20, 25)),
            *(f(_node_a_at(f"carsington_parts_size{n}_Y{y}", level) for n in (3, 2)
                for y in (20, 25)) for f in (min, max))])
-      for level, before in ((198.0, "mm at 190 m OD)"), (200.5, "| 400-450 mm | not reached"))],
+      for level, before in ((198.0, "mm at 190 m OD)"),
+                            (200.5, "finite elements: 100-150 mm) | not reached"))],
     ("docs/carsington.md", "Default run: rest at t = {} s; {} interfaces failed;",
      lambda: [carsington()["discrete"]["time_s"], carsington()["discrete"]["interfaces_failed"]]),
     ("docs/carsington.md", "at least {} m (a crack, not a slip surface sliding closed), joined "
      "to the crest's top. None is found at any time (the check fails). The widest opening of a "
-     "failed interface at the crest's top at any check is {} m, against the crack of {} mm "
+     "failed interface at the crest's top at any record is {} m, against the crack of {} mm "
      "reported on the crest on 4 June 1984 and {} mm that evening. At rest {} interfaces of a "
      "crack are joined to the crest",
      lambda: [carsington()["parameters"]["slip_min"],
@@ -580,10 +581,10 @@ QUOTES: list[Quote] = [
               carsington()["discrete"]["crest_crack_interfaces"]]
      if not carsington()["checks"]["crack_at_crest"]["passed"] and 0.0 < carsington()[
          "discrete"]["crest_crack_during_slide_surface_opening_m"] else [math.nan]),
-    ("docs/carsington.md", "The run's first check (t = {} s, 10 steps after the start) fails "
-     "{} bonds: {} beside the yellow clay, all in shear, {} at the crest's top, in tension, and {} "
-     "elsewhere (the boot's and the upstream shoulder's first bonds fail at this check too, the "
-     "core's at t = {} s)",
+    ("docs/carsington.md", "The run's first splitting check (t = {} s, 10 steps after the "
+     "start) fails {} bonds: {} beside the yellow clay, all in shear, {} at the crest's top, in "
+     "tension, and {} elsewhere (the boot's and the upstream shoulder's first bonds fail at this "
+     "splitting check too, the core's at t = {} s)",
      lambda: _default_onset()[:5] + [_default_onset_core()]),
     ("docs/carsington.md", "All {} failed bonds at the crest's top fail in tension; of the "
      "run's {} failed bonds {} fail in tension, {} in shear and {} as distorted fragments.",
@@ -591,9 +592,9 @@ QUOTES: list[Quote] = [
     ("docs/carsington.md", "In every one of the {} committed runs with a discrete phase",
      lambda: _onset_everywhere()[:1]),
     ("docs/carsington.md", "(all of them do in {} runs; in the others some fail as softened); "
-     "the crest's top fails at the first check in {} of them and in the others within {} s of "
-     "it. The first check also fails {} to {} bonds elsewhere in every run, the core's among "
-     "them in {} runs;", lambda: _onset_everywhere()[1:]),
+     "the crest's top fails at the first splitting check in {} of them and in the others "
+     "within {} s of it. The first splitting check also fails {} to {} bonds elsewhere in every "
+     "run, the core's among them in {} runs;", lambda: _onset_everywhere()[1:]),
     ("docs/carsington.md", "the upstream shoulder moves upstream, {} m on average, but its toe "
      "does not move",
      lambda: [-carsington()["discrete"]["upstream_shoulder_mean_dx_m"]]
@@ -888,12 +889,12 @@ QUOTES: list[Quote] = [
     ("docs/carsington.md", "The upstream toe advances {}, {}, {}, {}, {}, {}, {} and {} m on the "
      "{}, {}, {}, {}, {}, {}, {} and {} m meshes",
      lambda: [_soft_disc(n)["toe_runout_m"] for n in SOFT_MESHES] + _soft_sizes(SOFT_MESHES)),
-    ("docs/carsington.md", "The `crack_at_crest` check\n  (at every check of the run) fails on the "
-     "{}, {}, {}, {}, {}, {} and {} m meshes, and with u_r\n  {} and {} m, and passes on the {} m "
-     "mesh: there a failed interface joined to the crest's\n  top stands open by {} m at {} s, a "
-     "crack {} m deep.", lambda: _crest_crack_finest()),
+    ("docs/carsington.md", "The `crack_at_crest` check\n  (at every record of the run's state) "
+     "fails on the {}, {}, {}, {}, {}, {} and {} m meshes, and with u_r\n  {} and {} m, and "
+     "passes on the {} m mesh: there a failed interface joined to the crest's\n  top stands "
+     "open by {} m at {} s, a crack {} m deep.", lambda: _crest_crack_finest()),
     ("docs/carsington.md", "opens on every mesh; the widest opening of a failed interface at the "
-     "crest's top at any check is {}, {}, {}, {}, {}, {}, {} and {} mm on the eight meshes, "
+     "crest's top at any record is {}, {}, {}, {}, {}, {}, {} and {} mm on the eight meshes, "
      "within the {}-{} mm of the crack surveyed on the crest before the slide on {} of them",
      lambda: _crest_openings()),
     ("docs/carsington.md", "within the {} % bar on {} of the {} meshes of {} m and finer, but "
