@@ -61,7 +61,7 @@ Verification (asserted in ``tests/test_carsington.py``)
       fragmented berm can leave behind) and the crest drop (the crest nodes' mean
       settlement). The softening analysis meets the crest-drop bar on eight meshes from 8 to
       1.5 m, within 15 % from one to the next in every step; its toe advance is not
-      converged (from one mesh to the next it moves by up to 77 %); the thesis's set-up moves
+      converged (from one mesh to the next it moves by up to 91 %); the thesis's set-up moves
       far less (docs/carsington.md says why).
     Beside published values, no bar (docs/carsington.md): fill level (thesis: the design crest;
     observed: the slip at about 199.5 m OD, on the modelled dam whatever the analysis), node A
@@ -183,7 +183,7 @@ class Parameters(references.CarsingtonTable62, references.CarsingtonTable63):
 
 
 def materials(p: Parameters) -> dict[str, Material]:
-    """Table 6.3 as in the module's Problem (the berm as Zone II: the thesis mentions no berm).
+    """Table 6.3 as in the module's Problem (the berm as Zone II: Table 6.3 names no berm).
 
     Discrete phase: bonds as strong as the material, a tension cut-off of c for the phi = 0
     clays (assumed); separated elements slide at Table 6.2's residual angles (Zone I and the

@@ -85,7 +85,7 @@ def plot_level_history(path: str | Path, levels: Sequence[float], values: Sequen
     ax.set_title(title, fontsize=10)
     ax.grid(alpha=0.3)
     ax.autoscale_view()
-    ax.legend(fontsize=7, loc="upper left")
+    ax.legend(fontsize=7, loc="best")  # placed where it hides fewest of the curve and bands
     return save_figure(fig, path)
 
 

@@ -79,8 +79,7 @@ class CarsingtonTable62(CaseParameters):
 
 #: fill level when the upstream slope slipped [m OD]: one metre below the final crest level
 #: (200.5 m OD) on 4 June 1984 (Skempton 1985, as quoted by the Environment Agency); the
-#: thesis (6.3) has "0.5 m lower than the final height", 200.0 m OD: the record is uncertain
-#: by about 0.5 m
+#: thesis (6.3) quotes earlier analyses: "0.5 m lower than the final height", 200.0 m OD
 CARSINGTON_FAILURE_FILL_LEVEL = 199.5
 #: factors of safety at Ch. 725 (thesis 6.2.5, quoting Morton & Skempton 1986; 6.3, quoting
 #: Skempton & Vaughan 1993): (F, source)
