@@ -63,7 +63,7 @@ verify: setup
 
 # the hybrid cases behind docs/hybrid.md and docs/carsington.md: their summaries (docs/summaries/,
 # every figure the docs quote; tests/test_docs_numbers.py checks the quotes) and figures
-# (docs/figures/). Seven independent parts (`make -j2 docs` runs two at once), then the quoted
+# (docs/figures/). Eight independent parts (`make -j2 docs` runs two at once), then the quoted
 # figures rewritten from the new summaries.
 DOCS_RUN := results/docs
 CARS := $(PY) -m hybrid run cases/carsington.py --set progress=false --overwrite
@@ -132,7 +132,11 @@ docs-h2: setup
 	cp $(DOCS_RUN)/h2_punch/load_settlement.png docs/figures/hybrid/h2_punch_load_settlement.png
 	cp $(DOCS_RUN)/h2/final.png docs/figures/hybrid/h2_final.png
 	cp $(DOCS_RUN)/h2/handover_plastic_strain.png docs/figures/hybrid/h2_handover_plastic_strain.png
-	cp $(DOCS_RUN)/h2/discrete/discrete.gif docs/figures/hybrid/h2_discrete.gif
+	# the animation: a GIF, or where ffmpeg is installed an MP4 the docs' GIF is made from
+	if [ -f $(DOCS_RUN)/h2/discrete/discrete.gif ]; then \
+	    cp $(DOCS_RUN)/h2/discrete/discrete.gif docs/figures/hybrid/h2_discrete.gif; \
+	else ffmpeg -nostdin -y -loglevel error -i $(DOCS_RUN)/h2/discrete/discrete.mp4 \
+	    docs/figures/hybrid/h2_discrete.gif; fi
 
 # H2's collapse load as the peak of the footing's settlement-controlled curve (continuum only):
 # the default mesh, 0.1 % wider (under load control Newton stalls there), the structured and
@@ -355,7 +359,8 @@ docs-r1: setup
 
 # R1's assumed grain parameters, each changed alone at a = 1 and 2: the contact damping ratio
 # (0.1 and 0.6 beside the case's 0.3), the grains' stiffness (E ten times the case's 840 kPa)
-# and the contact angle (the calibrated 11.1 deg less 2, and 1 and 2 more: its uncertainty)
+# and the contact angle (the calibrated 11.1 deg less 2, and 1 and 2 more: its uncertainty); the
+# experiment's unknown floor, rough (a floor of fixed grains) at a = 0.5, 1 and 2
 docs-r1-assumptions: setup
 	mkdir -p docs/summaries
 	for a in 2 1; do for z in 0.1 0.6; do $(PY) -m hybrid run cases/granular_collapse.py \
@@ -368,6 +373,14 @@ docs-r1-assumptions: setup
 	  --set progress=false --overwrite || [ $$? -eq 4 ] || exit 1; done; done
 	for a in 1 2; do for r in zeta0.1 zeta0.6 E8400 phic9.1 phic12.1 phic13.1; do \
 	  cp $(DOCS_RUN)/r1_a$${a}_$$r/summary.json docs/summaries/r1_a$${a}_$$r.json; done; done
+	# the floor: a floor of fixed grains (a sawtooth) instead of the smooth plane
+	for a in 0.5 1 2; do $(PY) -m hybrid run cases/granular_collapse.py \
+	  --out $(DOCS_RUN)/r1_a$${a}_rough --set aspect=$$a --set floor=rough \
+	  --set progress=false --overwrite || [ $$? -eq 4 ] || exit 1; \
+	  cp $(DOCS_RUN)/r1_a$${a}_rough/summary.json docs/summaries/r1_a$${a}_rough.json; done
+	$(PY) -c "import json, runpy; f = runpy.run_path('cases/granular_collapse.py')['plot_deposits']; \
+	  f('docs/figures/hybrid/r1_floor.png', [json.load(open(f'docs/summaries/r1_a{a}{r}.json')) \
+	  for a in ('0.5', '1', '2') for r in ('', '_rough')])"
 
 bench: setup
 	$(PY) -m hybrid bench --json results/bench.json

@@ -3,7 +3,7 @@
 Objective
     The standard benchmark of run-out codes, against published measurements: a column of
     cohesionless grains against a back wall is released by removing the gate in front of it and
-    spreads over a rough floor; its run-out and final height are compared with experiments for
+    spreads over a floor; its run-out and final height are compared with experiments for
     several aspect ratios a = H0 / L0.
 Problem
     The column of Bui et al. (2008): aluminium bars, L0 = ``length`` = 0.2 m long, H0 = a L0
@@ -26,8 +26,13 @@ Set-up
        contact angle); ``contact_phi`` overrides it. The floor and the wall are held; the
        column's interfaces with them split as its own do, and a grain on them slides at the
        contact angle too (a contact takes the smaller of its two materials' angles). The
-       grains themselves stay elastic: the flow is grains sliding and rolling on each other,
-       not plastic flow inside elements.
+       experiments' floor is not known here (the rods' source studies how hard and soft
+       beds change the run-out; its abstract does not say which bed its laws are for):
+       ``floor`` = "flat" (default) is a smooth plane on which a grain slides at the contact
+       angle, smoother than the packing; "rough" a floor of fixed grains, a sawtooth half a
+       grain from valley to peak and two grains long, over which the packing must shear
+       (meshes/column.py). The grains themselves stay elastic: the flow is grains sliding
+       and rolling on each other, not plastic flow inside elements.
     3. Discrete: the gate is removed (its rollers released) at t = 0 and the run followed until
        rest (E_kin <= ``rest`` x its peak). No mass damping: nothing in the experiment resists
        the flight of a grain (air drag on a 1 mm bar at 1 m/s is negligible). Collisions
@@ -74,7 +79,7 @@ from hybrid.handover import Region, to_discrete
 from hybrid.io import CaseSummary, Check, save_figure
 from hybrid.materials import Bond, Contact, Material
 from hybrid.model import Fixed, Model, Roller
-from hybrid.parameters import CaseParameters, param
+from hybrid.parameters import CaseParameters, ParameterError, param
 from hybrid.report import plot_energy
 
 MESHES = Path(__file__).resolve().parent.parent / "meshes"
@@ -87,6 +92,8 @@ class Parameters(CaseParameters):
     nx: int = param(20, ge=2)  # elements along L0 (element size L0 / nx) [-]
     cells: str = param("triangle", choices=("triangle", "quadrilateral"))  # cell shape
     structured: bool = False  # structured cells (a regular stack of grains) or unstructured
+    floor: str = param("flat", choices=("flat", "rough"))  # the floor's surface: "flat", or
+    #     "rough": a sawtooth of half a grain from valley to peak (a floor of fixed grains)
     density: float = param(2.65, gt=0)  # [t/m3]
     E: float = param(840.0, gt=0)  # Young's modulus [kPa]
     nu: float = param(0.3, ge=0, lt=0.5)  # Poisson's ratio [-]
@@ -98,6 +105,12 @@ class Parameters(CaseParameters):
     t_end: float = param(5.0, gt=0)  # time limit [s]
     output_every: int = param(0, ge=0)  # steps between XDMF frames and PNG snapshots (0: none)
     progress: bool = True  # show a progress bar
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if self.floor == "rough" and self.structured:
+            raise ParameterError("case parameter floor = 'rough' needs unstructured grains (its "
+                                 "teeth are not a grid's row): give --set structured=false")
 
 
 def references(aspect: float) -> dict[str, float | None]:
@@ -130,7 +143,7 @@ def main(out: str | Path = "results/granular_collapse", **overrides) -> CaseSumm
     # 1. continuum: the column's elastic gravity state behind the gate (dolfinx)
     mesh = build_mesh(load_builder(MESHES / "column.py"), length=L0, height=H0, nx=p.nx, ny=ny,
                       runway=floor_end, wall=2.0 * size, depth=2.0 * size, cells=p.cells,
-                      structured=p.structured)
+                      structured=p.structured, roughness=0.5 * size if p.floor == "rough" else 0.0)
     kn = 10.0 * p.E / size  # the default normal contact stiffness, written out for k_t
     phi_c = contact_friction(p.phi) if p.contact_phi is None else p.contact_phi
     contact = Contact(phi=phi_c, damping=p.contact_damping, normal_stiffness=kn,
@@ -220,12 +233,19 @@ def plot_deposits(path: str | Path, summaries: list[dict]) -> Path:
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(8.0, 3.5), dpi=100)
+    colours: dict[tuple[float, float], str] = {}  # one colour per column; its start and
+    #     references drawn once
     for s in sorted(summaries, key=lambda s: s["parameters"]["aspect"]):
         a, L0 = s["parameters"]["aspect"], s["parameters"]["length"]
         prof = np.asarray(s["deposit"]["profile_m"]) / L0
         x = np.concatenate([[0.0], prof[:, 0], [s["deposit"]["runout_m"] / L0]])
         y = np.concatenate([[prof[0, 1]], prof[:, 1], [0.0]])
-        line, = ax.plot(x, y, label=f"a = {a:g}: computed")
+        rough = s["parameters"].get("floor", "flat") == "rough"  # older summaries: flat
+        line, = ax.plot(x, y, color=colours.get((a, L0)), ls="--" if rough else "-",
+                        label=f"a = {a:g}: computed" + (", rough floor" if rough else ""))
+        if (a, L0) in colours:
+            continue
+        colours[(a, L0)] = line.get_color()
         ax.plot([0, 1, 1], [a, a, 0], ls=":", color=line.get_color(), lw=0.8)
         bui = ref.bui2008_collapse()
         if a == bui.aspect and L0 == bui.length:
@@ -240,7 +260,8 @@ def plot_deposits(path: str | Path, summaries: list[dict]) -> Path:
     ax.set_xlabel("x / L0 from the back wall")
     ax.set_ylabel("y / L0")
     ax.set_aspect("equal")
-    ax.legend(fontsize=7, loc="upper right")
+    ax.set_ylim(top=max(a for a, _ in colours) + 0.4)
+    ax.legend(fontsize=7, loc="upper right", ncol=2 if len(summaries) > 3 else 1)
     ax.set_title("Final deposits (dotted: the columns at the start)")
     return save_figure(fig, Path(path))
 

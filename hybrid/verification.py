@@ -279,7 +279,9 @@ SERIES: dict[str, tuple[str, str]] = {
     "R": ("Run-out (R-series)",
           "A plane column of cohesionless grains (aluminium bars: L0 = 0.2 m long, H0 = a L0 "
           "high, friction angle 19.8 deg) stands against a back wall behind a gate; the gate "
-          "is removed and the column spreads over a rough floor to rest. The model is a "
+          "is removed and the column spreads over a smooth floor to rest (the experiments' "
+          "floor is not known; a floor of fixed grains shortens the run-out by more than "
+          "twice the bar: docs/hybrid.md). The model is a "
           "packing of elastic triangular grains (unstructured, of size L0 / 20 in the full "
           "run) bonded by interfaces with no cohesion and no tensile strength: they fail as "
           "soon as they open or slide, and from then on the grains meet by contact with "

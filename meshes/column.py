@@ -6,6 +6,12 @@ column is meshed with ``nx`` x ``ny`` structured cells (``structured``) or with 
 cells of the same size on its sides (gmsh's default algorithm, recombined for quadrilaterals);
 the wall with one cell across and the column's rows up; the floor one cell deep with cells of
 the column's width / nx along it.
+With ``roughness`` > 0 the floor's top under the column and along the runway is a sawtooth
+(a triangle wave of wavelength two cells, ``roughness`` [m] from valley to peak, about y = 0,
+so that the floor's mean level and the column's volume stay those of the flat floor): a floor
+roughened as DEM practice roughens one, by a layer of grains fixed to it, so that a grain slides
+on it only by riding over the teeth or by shearing the packing above them. The floor is then
+meshed with unstructured cells, and the column cannot be structured.
 Column, wall and floor share their nodes on the lines they have in common. Physical groups:
 cells "column", "wall", "floor"; boundaries "base" (y = -depth), "back" (x = -wall) and "gate"
 (the column's right side).
@@ -16,12 +22,19 @@ from hybrid.geometry import physical_group
 
 def build(gmsh, length: float = 0.2, height: float = 0.1, nx: int = 20, ny: int = 10,
           runway: float = 1.0, wall: float = 0.02, depth: float = 0.02,
-          cells: str = "quadrilateral", structured: bool = True) -> None:
+          cells: str = "quadrilateral", structured: bool = True,
+          roughness: float = 0.0) -> None:
     """Create the column, the wall and the floor (m) in the current gmsh model and mesh it."""
     if runway <= length:
         raise ValueError(f"runway = {runway} m must reach beyond the column (length = {length} m)")
-    geo = gmsh.model.geo
     size = length / nx
+    if roughness < 0 or roughness >= min(depth, size):
+        raise ValueError(f"roughness = {roughness} m must be >= 0 and below the floor's depth "
+                         f"({depth} m) and the cell size ({size} m)")
+    if roughness > 0 and structured:
+        raise ValueError("a rough floor (roughness > 0) needs an unstructured column: "
+                         "give structured=False")
+    geo = gmsh.model.geo
     p = {k: geo.addPoint(x, y, 0) for k, (x, y) in {
         "b0": (-wall, -depth), "b1": (runway, -depth), "r": (runway, 0.0), "g": (length, 0.0),
         "o": (0.0, 0.0), "w0": (-wall, 0.0), "gt": (length, height), "ot": (0.0, height),
@@ -39,16 +52,22 @@ def build(gmsh, length: float = 0.2, height: float = 0.1, nx: int = 20, ny: int 
                      ("back", ny + 1), ("wb", 2), ("wtop", 2), ("fr", 2), ("fl", 2),
                      ("run", n_run), ("base", n_run + nx + 1)):
         geo.mesh.setTransfiniteCurve(ln[k], count)
-    column = geo.addPlaneSurface([geo.addCurveLoop([-ln["foot"], ln["gate"], ln["top"],
-                                                    ln["back_in"]])])
+    foot, run = [ln["foot"]], [ln["run"]]
+    if roughness > 0:  # the straight foot and runway replaced by sawtooth polylines
+        geo.remove([(1, ln["foot"]), (1, ln["run"])])
+        foot = _sawtooth(geo, p["g"], p["o"], length, 0.0, nx, roughness)
+        run = _sawtooth(geo, p["r"], p["g"], runway, length, n_run - 1, roughness)
+    column = geo.addPlaneSurface([geo.addCurveLoop([*(-c for c in reversed(foot)), ln["gate"],
+                                                    ln["top"], ln["back_in"]])])
     back_wall = geo.addPlaneSurface([geo.addCurveLoop([ln["wb"], -ln["back"], -ln["wtop"],
                                                        ln["back_in"]])])
-    floor = geo.addPlaneSurface([geo.addCurveLoop([ln["base"], ln["fr"], ln["run"], ln["foot"],
+    floor = geo.addPlaneSurface([geo.addCurveLoop([ln["base"], ln["fr"], *run, *foot,
                                                    ln["wb"], ln["fl"]])])
     if structured:
         geo.mesh.setTransfiniteSurface(column)
     geo.mesh.setTransfiniteSurface(back_wall)
-    geo.mesh.setTransfiniteSurface(floor, "Left", [p["b0"], p["b1"], p["r"], p["w0"]])
+    if roughness == 0:
+        geo.mesh.setTransfiniteSurface(floor, "Left", [p["b0"], p["b1"], p["r"], p["w0"]])
     if cells == "quadrilateral":
         for s in (column, back_wall, floor):
             geo.mesh.setRecombine(2, s)
@@ -60,3 +79,23 @@ def build(gmsh, length: float = 0.2, height: float = 0.1, nx: int = 20, ny: int 
     physical_group(gmsh, 1, [ln["back"]], "back")
     physical_group(gmsh, 1, [ln["gate"]], "gate")
     gmsh.model.mesh.generate(2)
+
+
+def _sawtooth(geo, start: int, end: int, x_start: float, x_end: float, cells: int,
+              roughness: float) -> list[int]:
+    """Lines from point ``start`` (at x_start, y = 0) to ``end`` (x_end, y = 0): a triangle wave.
+
+    ``cells`` cells along the span, two half-teeth per cell (0, +r/2, 0, -r/2, ... with r the
+    ``roughness`` [m]), each segment one element edge.
+    """
+    steps = 2 * cells
+    dx = (x_end - x_start) / steps
+    pts = [start]
+    for k in range(1, steps):
+        y = 0.5 * roughness * (0.0, 1.0, 0.0, -1.0)[k % 4]
+        pts.append(geo.addPoint(x_start + k * dx, y, 0))
+    pts.append(end)
+    lines = [geo.addLine(a, b) for a, b in zip(pts[:-1], pts[1:])]
+    for line in lines:
+        geo.mesh.setTransfiniteCurve(line, 2)
+    return lines

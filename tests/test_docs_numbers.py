@@ -514,6 +514,32 @@ def _r1_angle_spans() -> list[float]:
     return []
 
 
+def _r1_floor() -> list[float]:
+    """R1 on the rough floor against the flat one: the run-out's shortening at a = 0.5, 1, 2 [%];
+    [] unless each is more than twice the 15 % bar and more than one packing's scatter, the
+    floor moves the run-out (larger over smaller) more than the +-2 deg contact angles do at
+    a = 2 and at least 0.8 of it at a = 1, and the rods (Bui's surface at a = 0.5) lie
+    between the two floors (the words of the quote)."""
+    flat = {a: r1(f"a{a}")["deposit"] for a in ("0.5", "1", "2")}
+    rough = {a: r1(f"a{a}_rough")["deposit"] for a in ("0.5", "1", "2")}
+    short = [100.0 * (1.0 - rough[a]["normalised_runout"] / flat[a]["normalised_runout"])
+             for a in ("0.5", "1", "2")]
+    scatter = [100.0 * _rel_spread([r1(run)["deposit"]["normalised_runout"]
+                                    for run in _r1_packings(a)]) for a in ("0.5", "1", "2")]
+    floor = {a: 100.0 * _rel_spread([flat[a]["normalised_runout"],
+                                     rough[a]["normalised_runout"]]) for a in ("1", "2")}
+    angle = {a: 100.0 * _rel_spread([r1(f"a{a}_phic{c}")["deposit"]["normalised_runout"]
+                                     for c in (9.1, 13.1)]) for a in ("1", "2")}
+    bui = ref.bui2008_final_surface()[-1][0]
+    between = (all(rough[a]["normalised_runout"] < flat[a]["references"]["rods2015_runout"]
+                   < flat[a]["normalised_runout"] for a in ("1", "2"))
+               and rough["0.5"]["runout_m"] < bui < flat["0.5"]["runout_m"])
+    if (all(v > 30.0 and v > w for v, w in zip(short, scatter)) and between
+            and floor["2"] > angle["2"] and 0.8 * angle["1"] <= floor["1"] < angle["1"]):
+        return short
+    return []
+
+
 def _restitution(zeta: float) -> float:
     """Coefficient of restitution of a linear contact of damping ratio ``zeta``."""
     return math.exp(-math.pi * zeta / math.sqrt(1.0 - zeta * zeta))
@@ -932,7 +958,8 @@ QUOTES: list[Quote] = [
                                               "softening_displacement")]),
     ("docs/hybrid.md", "collapse (the softening soil's peak) at **{} kPa**; the classical "
      "bearing-capacity formulae are limit loads of a perfectly plastic soil and no reference for "
-     "it (they are checked on the perfectly plastic footing, C7), {} increments, {} Newton "
+     "it (they are compared, without a bar, with the perfectly plastic footing in C7; "
+     "Prandtl's weightless limit load is checked in C6), {} increments, {} Newton "
      "iterations, {} s;",
      lambda: [h2()["continuum"]["collapse_pressure_kPa"]]
      * all(h2()["checks"][f"collapse_vs_{k}"]["reference"] is None
@@ -1214,7 +1241,8 @@ QUOTES: list[Quote] = [
      "of solver time",
      lambda: [verify("C9")["stats"]["wall_time_s"],
               verify("C9-associated")["stats"]["wall_time_s"]]),
-    ("docs/continuum.md", "F = {} / {} / {} on the three meshes against Bishop's {} (within {} %)",
+    ("docs/continuum.md", "F = {} / {} / {} on the three meshes against Bishop's {} (the "
+     "finest {} % below it)",
      lambda: [*(row("C9-weak", f"factor_of_safety_H/{n}") for n in (16, 24, 32)),
               row("C9-weak", "bishop_search"),
               100 * row("C9-weak", "factor_of_safety_within_5_percent_of_bishop", "error")]),
@@ -1300,6 +1328,29 @@ QUOTES: list[Quote] = [
      "({} % further)",
      lambda: [x := ref.bui2008_final_surface()[-1][0], y := r1("a0.5")["deposit"]["runout_m"],
               100.0 * (y / x - 1.0)]),
+    *[("docs/hybrid.md", f"| {words} | {{}}, {{}} | {{}}, {{}} | {{}}, {{}} |",
+       lambda tail=tail: [r1(f"a{a}{tail}")["deposit"][k] for a in ("0.5", "1", "2")
+                          for k in ("normalised_runout", "height_over_H0")])
+      for words, tail in (("flat (the case's)", ""), ("rough", "_rough"))],
+    ("docs/hybrid.md", "| the rods | -, {} | {}, {} | {}, {} |",
+     lambda: [r1("a0.5")["deposit"]["references"]["rods2015_height"],
+              *[r1(f"a{a}")["deposit"]["references"][k] for a in ("1", "2")
+                for k in ("rods2015_runout", "rods2015_height")]]),
+    ("docs/hybrid.md", "The rough floor shortens the run-out by {}, {} and {} % at a = 0.5, 1 "
+     "and 2", _r1_floor),
+    ("docs/hybrid.md", "At a = 1 and 2 the\nrough floor runs {} and {} % short of them and the "
+     "flat one {} and {} % beyond",
+     lambda: [_r1_gap("a1_rough"), _r1_gap("a2_rough"), -_r1_gap("a1"), -_r1_gap("a2")]),
+    ("docs/hybrid.md", "ends between the two floors too: {} m from the back wall,\nagainst {} m "
+     "on the rough floor ({} % short) and {} m on the flat one ({} % further)",
+     lambda: [x := ref.bui2008_final_surface()[-1][0],
+              y := r1("a0.5_rough")["deposit"]["runout_m"], 100.0 * (1.0 - y / x),
+              z := r1("a0.5")["deposit"]["runout_m"], 100.0 * (z / x - 1.0)]),
+    ("docs/hybrid.md", "on the rough floor it is within {} % of the rods' at a = 1 and 2",
+     lambda: [g] if (g := max(abs(_r1_height_gap(f"a{a}_rough")) for a in ("1", "2")))
+     <= 5.0 else []),
+    ("docs/hybrid.md", "The case's floor is a smooth plane on which a grain slides at the "
+     "contact angle\n({} deg)", lambda: [r1("a1")["grains"]["contact_phi_deg"]]),
     *[("docs/hybrid.md", f"| {a} | {{}}, {{}} | {{}}, {{}} | {{}}, {{}} |",
        lambda a=a: [v for run in (f"a{a}_nx10", f"a{a}", f"a{a}_nx30")
                     for v in (r1(run)["deposit"]["normalised_runout"],

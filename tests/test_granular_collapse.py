@@ -2,7 +2,8 @@
 bonds released from its gravity state spreads to rest; run-out and height against experiments.
 
 Fast: coarse runs (8 grains along the column) keep energy bounded, elements and mass, reach
-rest, and spread further for a taller column; the deposit measure on a hand-made state. Slow:
+rest, and spread further for a taller column and less far on a rough floor; the rough floor's
+mesh; the deposit measure on a hand-made state. Slow:
 the shipped mesh at a = 0.5, 1 and 2 against the aluminium-rod laws (arXiv:1512.05180), with
 the committed figures of docs/hybrid.md.
 """
@@ -70,10 +71,18 @@ def test_deposit_walks_from_the_wall_not_from_behind_it():
 def test_granular_collapse_coarse(case, tmp_path):
     """Coarse grains (L0 / 8): a = 0.5 and a = 1.5 reach rest with bounded energy and their
     elements and mass; the taller column runs out further (normalised by L0) and keeps less of
-    its height, as in every experiment."""
+    its height, as in every experiment. On a rough floor (a floor of fixed grains) the a = 1.5
+    column reaches rest too, and runs out less far and keeps more of its height than on the
+    smooth one: the packing must shear above the teeth instead of sliding on a plane at the
+    contact angle."""
     mod = case("granular_collapse")
     runs = {a: mod.main(out=tmp_path / f"a{a}", aspect=a, nx=8, progress=False)
             for a in (0.5, 1.5)}
+    rough = mod.main(out=tmp_path / "rough", aspect=1.5, nx=8, floor="rough", progress=False)
+    assert_bars(rough)
+    assert rough["discrete"]["stop"] == "rest"
+    assert rough["deposit"]["normalised_runout"] < runs[1.5]["deposit"]["normalised_runout"]
+    assert rough["deposit"]["height_over_H0"] > runs[1.5]["deposit"]["height_over_H0"]
     for s in runs.values():
         assert_bars(s)
         assert s["discrete"]["stop"] == "rest"
@@ -88,6 +97,35 @@ def test_granular_collapse_coarse(case, tmp_path):
     low, tall = runs[0.5]["deposit"], runs[1.5]["deposit"]
     assert tall["normalised_runout"] > low["normalised_runout"]
     assert tall["height_over_H0"] < low["height_over_H0"]
+
+
+def test_rough_floor_is_a_sawtooth_under_an_unchanged_column(case):
+    """``floor="rough"``: the floor's top, under the column and along the runway, is a triangle
+    wave of half a grain from valley to peak about y = 0 (vertices at 0 and +-size/4, both
+    signs), the column keeps the flat floor's area L0 H0 (whole wavelengths under it, nx
+    even), and a structured column is refused with the parameter to change."""
+    from hybrid.geometry import build_mesh, load_builder
+    from hybrid.parameters import ParameterError
+
+    mod = case("granular_collapse")
+    L0, nx, a = 0.2, 8, 1.0
+    size = L0 / nx
+    mesh = build_mesh(load_builder(mod.MESHES / "column.py"), length=L0, height=a * L0, nx=nx,
+                      ny=nx, runway=mod.runway(L0, a), wall=2 * size, depth=2 * size,
+                      cells="triangle", structured=False, roughness=0.5 * size)
+    assert mesh.group_area("column") == pytest.approx(L0 * a * L0, rel=1e-12)
+    pts, cells = mesh.cell_vertices()
+    floor = cells[mesh.cells("floor")]
+    edges = np.sort(np.stack([floor, np.roll(floor, -1, axis=1)], axis=2).reshape(-1, 2), axis=1)
+    edge, count = np.unique(edges, axis=0, return_counts=True)
+    nodes = np.unique(edge[count == 1])  # the floor's outline
+    top = pts[nodes][(pts[nodes, 0] > 1e-12) & (pts[nodes, 0] < mod.runway(L0, a) - 1e-12)
+                     & (pts[nodes, 1] > -1.5 * size)]  # its top from the back wall on
+    assert np.abs(top[:, 1]).max() == pytest.approx(0.25 * size, rel=1e-12)
+    assert top[:, 1].min() == pytest.approx(-0.25 * size, rel=1e-12)
+    assert np.all(np.isclose(np.abs(top[:, 1]), 0.25 * size) | np.isclose(top[:, 1], 0.0))
+    with pytest.raises(ParameterError, match="structured=false"):
+        mod.Parameters(floor="rough", structured=True)
 
 
 def test_a_deposit_still_moving_is_compared_with_nothing(case, tmp_path):

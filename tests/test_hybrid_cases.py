@@ -56,8 +56,8 @@ def _assert_continuum_series(path, times, report):
 
 
 def test_retaining_wall_collapse_coarse(case, tmp_path):
-    """H3 on 1 m elements (240 in the backfill): the wall removed, the backfill runs out and
-    comes to rest; energy, rest and conservation at their bars. The wedge's bar (5 deg of
+    """H3 on 1 m elements (240, 200 of them in the backfill): the wall removed, the backfill runs
+    out and comes to rest; energy, rest and conservation at their bars. The wedge's bar (5 deg of
     45 + phi/2) is asserted on the 0.5 and 0.25 m meshes (slow tests): ten elements over the
     wall's height resolve the back of the moving zone to an element, and the docs report
     this mesh's wedge beside theirs."""

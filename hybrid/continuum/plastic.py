@@ -34,8 +34,9 @@ Globalisation, for non-associated flow (psi < phi) where plain Newton stalls:
     :class:`~hybrid.continuum.analysis.Analysis` holding the last converged factor: the
     caller decides whether that is the answer (a collapse load) or an error
     (:meth:`Analysis.require`).
-Convergence: ||R|| <= ``tolerance`` max(||f_ref||, 1) on the free dofs, where f_ref is the
-internal force vector of the current stress state (scale-free).
+Convergence: ||R|| <= ``tolerance`` max(||f_ref||, |lambda| + 1) on the free dofs, where f_ref
+is the internal force vector of the current stress state and lambda the factor on the surface
+loads.
 """
 
 from __future__ import annotations

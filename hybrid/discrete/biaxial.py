@@ -11,7 +11,7 @@ holds the measured curve and :func:`contact_friction` inverts it.
 
 The test: a rectangular specimen ``cells_across`` grains wide and ``slenderness`` times as high,
 between two rigid smooth platens (frictionless contact), without gravity. Its two sides carry a
-constant pressure ``pressure``: a flexible membrane, p times the height of each bin of half a
+constant pressure ``pressure``: a flexible membrane, p times the height of each bin of one
 grain's height on the outermost grain node of the bin, horizontal and inward, renewed at
 every check (:func:`_side_load`).
 The grains start in the isotropic state -p (interfaces in pure compression: intact); the top
