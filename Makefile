@@ -72,6 +72,10 @@ CARS := $(PY) -m hybrid run cases/carsington.py --set progress=false --overwrite
 
 docs: docs-h2 docs-h2-settlement docs-h3-d10 docs-carsington-construction \
 	docs-carsington-sensitivity docs-carsington-slide docs-r1 docs-r1-assumptions
+	# R1's deposits on the two floors: summaries of two parts (docs-r1, docs-r1-assumptions)
+	$(PY) -c "import json, runpy; f = runpy.run_path('cases/granular_collapse.py')['plot_deposits']; \
+	  f('docs/figures/hybrid/r1_floor.png', [json.load(open(f'docs/summaries/r1_a{a}{r}.json')) \
+	  for a in ('0.5', '1', '2') for r in ('', '_rough')])"
 	# every figure the docs quote rewritten from the new summaries (the changes are printed:
 	# read them, and mend the words around a figure that changed its meaning)
 	$(PY) tests/test_docs_numbers.py
@@ -378,9 +382,6 @@ docs-r1-assumptions: setup
 	  --out $(DOCS_RUN)/r1_a$${a}_rough --set aspect=$$a --set floor=rough \
 	  --set progress=false --overwrite || [ $$? -eq 4 ] || exit 1; \
 	  cp $(DOCS_RUN)/r1_a$${a}_rough/summary.json docs/summaries/r1_a$${a}_rough.json; done
-	$(PY) -c "import json, runpy; f = runpy.run_path('cases/granular_collapse.py')['plot_deposits']; \
-	  f('docs/figures/hybrid/r1_floor.png', [json.load(open(f'docs/summaries/r1_a{a}{r}.json')) \
-	  for a in ('0.5', '1', '2') for r in ('', '_rough')])"
 
 bench: setup
 	$(PY) -m hybrid bench --json results/bench.json

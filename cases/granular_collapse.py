@@ -26,11 +26,12 @@ Set-up
        contact angle); ``contact_phi`` overrides it. The floor and the wall are held; the
        column's interfaces with them split as its own do, and a grain on them slides at the
        contact angle too (a contact takes the smaller of its two materials' angles). The
-       experiments' floor is not known here (the rods' source studies how hard and soft
-       beds change the run-out; its abstract does not say which bed its laws are for):
+       experiments' floor is not known here (the rods' source investigates the influence of
+       hard and soft beds on the run-out; its abstract does not say which bed its laws are for):
        ``floor`` = "flat" (default) is a smooth plane on which a grain slides at the contact
-       angle, smoother than the packing; "rough" a floor of fixed grains, a sawtooth half a
-       grain from valley to peak and two grains long, over which the packing must shear
+       angle, smoother than the packing; "rough" a sawtooth standing in for a layer of grains
+       fixed to the floor, half a grain from valley to peak, its wavelength two grains, over
+       which the packing must shear
        (meshes/column.py). The grains themselves stay elastic: the flow is grains sliding
        and rolling on each other, not plastic flow inside elements.
     3. Discrete: the gate is removed (its rollers released) at t = 0 and the run followed until
@@ -93,7 +94,7 @@ class Parameters(CaseParameters):
     cells: str = param("triangle", choices=("triangle", "quadrilateral"))  # cell shape
     structured: bool = False  # structured cells (a regular stack of grains) or unstructured
     floor: str = param("flat", choices=("flat", "rough"))  # the floor's surface: "flat", or
-    #     "rough": a sawtooth of half a grain from valley to peak (a floor of fixed grains)
+    #     "rough": a sawtooth half a grain from valley to peak (for grains fixed to the floor)
     density: float = param(2.65, gt=0)  # [t/m3]
     E: float = param(840.0, gt=0)  # Young's modulus [kPa]
     nu: float = param(0.3, ge=0, lt=0.5)  # Poisson's ratio [-]
@@ -108,9 +109,11 @@ class Parameters(CaseParameters):
 
     def __post_init__(self) -> None:
         super().__post_init__()
-        if self.floor == "rough" and self.structured:
-            raise ParameterError("case parameter floor = 'rough' needs unstructured grains (its "
-                                 "teeth are not a grid's row): give --set structured=false")
+        if self.floor == "rough" and (self.structured or self.cells != "triangle"):
+            raise ParameterError("case parameter floor = 'rough' needs unstructured triangle "
+                                 "grains (its teeth are not a grid's row, and gmsh leaves "
+                                 "triangles among quadrilaterals beside them): give "
+                                 "--set structured=false --set cells=triangle")
 
 
 def references(aspect: float) -> dict[str, float | None]:

@@ -8,10 +8,12 @@ the wall with one cell across and the column's rows up; the floor one cell deep 
 the column's width / nx along it.
 With ``roughness`` > 0 the floor's top under the column and along the runway is a sawtooth
 (a triangle wave of wavelength two cells, ``roughness`` [m] from valley to peak, about y = 0,
-so that the floor's mean level and the column's volume stay those of the flat floor): a floor
-roughened as DEM practice roughens one, by a layer of grains fixed to it, so that a grain slides
+one edge a cell, so that the column's grains keep their size and, for an even ``nx``, the
+floor's mean level and the column's area stay those of the flat floor): a stand-in for the
+layer of grains fixed to a base with which DEM practice roughens it, so that a grain slides
 on it only by riding over the teeth or by shearing the packing above them. The floor is then
-meshed with unstructured cells, and the column cannot be structured.
+meshed with unstructured triangles, and the column can be neither structured nor of
+quadrilaterals (gmsh's recombination leaves triangles beside the teeth).
 Column, wall and floor share their nodes on the lines they have in common. Physical groups:
 cells "column", "wall", "floor"; boundaries "base" (y = -depth), "back" (x = -wall) and "gate"
 (the column's right side).
@@ -31,9 +33,9 @@ def build(gmsh, length: float = 0.2, height: float = 0.1, nx: int = 20, ny: int 
     if roughness < 0 or roughness >= min(depth, size):
         raise ValueError(f"roughness = {roughness} m must be >= 0 and below the floor's depth "
                          f"({depth} m) and the cell size ({size} m)")
-    if roughness > 0 and structured:
-        raise ValueError("a rough floor (roughness > 0) needs an unstructured column: "
-                         "give structured=False")
+    if roughness > 0 and (structured or cells != "triangle"):
+        raise ValueError("a rough floor (roughness > 0) needs an unstructured column of "
+                         "triangles: give structured=False, cells='triangle'")
     geo = gmsh.model.geo
     p = {k: geo.addPoint(x, y, 0) for k, (x, y) in {
         "b0": (-wall, -depth), "b1": (runway, -depth), "r": (runway, 0.0), "g": (length, 0.0),
@@ -55,8 +57,8 @@ def build(gmsh, length: float = 0.2, height: float = 0.1, nx: int = 20, ny: int 
     foot, run = [ln["foot"]], [ln["run"]]
     if roughness > 0:  # the straight foot and runway replaced by sawtooth polylines
         geo.remove([(1, ln["foot"]), (1, ln["run"])])
-        foot = _sawtooth(geo, p["g"], p["o"], length, 0.0, nx, roughness)
-        run = _sawtooth(geo, p["r"], p["g"], runway, length, n_run - 1, roughness)
+        foot = _sawtooth(geo, p["g"], p["o"], 0.0, length, nx, 0, roughness)
+        run = _sawtooth(geo, p["r"], p["g"], length, runway, n_run - 1, nx, roughness)
     column = geo.addPlaneSurface([geo.addCurveLoop([*(-c for c in reversed(foot)), ln["gate"],
                                                     ln["top"], ln["back_in"]])])
     back_wall = geo.addPlaneSurface([geo.addCurveLoop([ln["wb"], -ln["back"], -ln["wtop"],
@@ -81,20 +83,20 @@ def build(gmsh, length: float = 0.2, height: float = 0.1, nx: int = 20, ny: int 
     gmsh.model.mesh.generate(2)
 
 
-def _sawtooth(geo, start: int, end: int, x_start: float, x_end: float, cells: int,
-              roughness: float) -> list[int]:
-    """Lines from point ``start`` (at x_start, y = 0) to ``end`` (x_end, y = 0): a triangle wave.
+def _sawtooth(geo, right: int, left: int, x_left: float, x_right: float, cells: int,
+              first: int, roughness: float) -> list[int]:
+    """Lines from point ``right`` (x_right, y = 0) to point ``left`` (x_left, y = 0): a sawtooth.
 
-    ``cells`` cells along the span, two half-teeth per cell (0, +r/2, 0, -r/2, ... with r the
-    ``roughness`` [m]), each segment one element edge.
+    ``cells`` cells along the span, one vertex at the middle of each, at +r/2 and -r/2 in turn
+    (r the ``roughness`` [m]; the cell of global index ``first`` + j from x = 0, j counted from
+    the left, at +r/2 where that index is even), so that one edge spans each cell (a half cell
+    at either end) and the wave runs on across the spans that meet.
     """
-    steps = 2 * cells
-    dx = (x_end - x_start) / steps
-    pts = [start]
-    for k in range(1, steps):
-        y = 0.5 * roughness * (0.0, 1.0, 0.0, -1.0)[k % 4]
-        pts.append(geo.addPoint(x_start + k * dx, y, 0))
-    pts.append(end)
+    dx = (x_right - x_left) / cells
+    pts = [geo.addPoint(x_left + (j + 0.5) * dx,
+                        0.5 * roughness * (1.0 if (first + j) % 2 == 0 else -1.0), 0)
+           for j in range(cells)]
+    pts = [right, *reversed(pts), left]
     lines = [geo.addLine(a, b) for a, b in zip(pts[:-1], pts[1:])]
     for line in lines:
         geo.mesh.setTransfiniteCurve(line, 2)

@@ -516,12 +516,20 @@ def _r1_angle_spans() -> list[float]:
 
 def _r1_floor() -> list[float]:
     """R1 on the rough floor against the flat one: the run-out's shortening at a = 0.5, 1, 2 [%];
-    [] unless each is more than twice the 15 % bar and more than one packing's scatter, the
+    [] unless the runs differ in the floor alone, each shortening is more than twice the 15 %
+    bar and more than one packing's scatter, the height moves less than the run-out, the
     floor moves the run-out (larger over smaller) more than the +-2 deg contact angles do at
-    a = 2 and at least 0.8 of it at a = 1, and the rods (Bui's surface at a = 0.5) lie
-    between the two floors (the words of the quote)."""
+    a = 1 and 2, and the rods (Bui's surface at a = 0.5) lie between the two floors (the
+    words of the quote)."""
+    same = all({k: v for k, v in r1(f"a{a}_rough")["parameters"].items() if k != "floor"}
+               == {k: v for k, v in r1(f"a{a}")["parameters"].items() if k != "floor"}
+               and r1(f"a{a}_rough")["parameters"]["floor"] == "rough"
+               for a in ("0.5", "1", "2"))
     flat = {a: r1(f"a{a}")["deposit"] for a in ("0.5", "1", "2")}
     rough = {a: r1(f"a{a}_rough")["deposit"] for a in ("0.5", "1", "2")}
+    height_less = all(abs(rough[a]["height_over_H0"] / flat[a]["height_over_H0"] - 1.0)
+                      < 1.0 - rough[a]["normalised_runout"] / flat[a]["normalised_runout"]
+                      for a in ("0.5", "1", "2"))
     short = [100.0 * (1.0 - rough[a]["normalised_runout"] / flat[a]["normalised_runout"])
              for a in ("0.5", "1", "2")]
     scatter = [100.0 * _rel_spread([r1(run)["deposit"]["normalised_runout"]
@@ -534,8 +542,9 @@ def _r1_floor() -> list[float]:
     between = (all(rough[a]["normalised_runout"] < flat[a]["references"]["rods2015_runout"]
                    < flat[a]["normalised_runout"] for a in ("1", "2"))
                and rough["0.5"]["runout_m"] < bui < flat["0.5"]["runout_m"])
-    if (all(v > 30.0 and v > w for v, w in zip(short, scatter)) and between
-            and floor["2"] > angle["2"] and 0.8 * angle["1"] <= floor["1"] < angle["1"]):
+    if (same and height_less and between
+            and all(v > 30.0 and v > w for v, w in zip(short, scatter))
+            and all(floor[a] > angle[a] for a in ("1", "2"))):
         return short
     return []
 
@@ -1338,15 +1347,29 @@ QUOTES: list[Quote] = [
                 for k in ("rods2015_runout", "rods2015_height")]]),
     ("docs/hybrid.md", "The rough floor shortens the run-out by {}, {} and {} % at a = 0.5, 1 "
      "and 2", _r1_floor),
-    ("docs/hybrid.md", "At a = 1 and 2 the\nrough floor runs {} and {} % short of them and the "
+    ("docs/hybrid.md", "at a = 1 and 2 the rough floor runs {} and {} % short of them and the "
      "flat one {} and {} % beyond",
      lambda: [_r1_gap("a1_rough"), _r1_gap("a2_rough"), -_r1_gap("a1"), -_r1_gap("a2")]),
-    ("docs/hybrid.md", "ends between the two floors too: {} m from the back wall,\nagainst {} m "
-     "on the rough floor ({} % short) and {} m on the flat one ({} % further)",
+    ("docs/hybrid.md", "ends between the two floors too: {} m from the back wall, against {} m "
+     "on the rough floor and {} m on the flat one ((L_inf - L0) / L0 {} % short of the "
+     "measured one and {} % beyond it)",
      lambda: [x := ref.bui2008_final_surface()[-1][0],
-              y := r1("a0.5_rough")["deposit"]["runout_m"], 100.0 * (1.0 - y / x),
-              z := r1("a0.5")["deposit"]["runout_m"], 100.0 * (z / x - 1.0)]),
-    ("docs/hybrid.md", "on the rough floor it is within {} % of the rods' at a = 1 and 2",
+              r1("a0.5_rough")["deposit"]["runout_m"], r1("a0.5")["deposit"]["runout_m"],
+              100.0 * (1.0 - r1("a0.5_rough")["deposit"]["normalised_runout"] / (x / 0.2 - 1.0)),
+              100.0 * (r1("a0.5")["deposit"]["normalised_runout"] / (x / 0.2 - 1.0) - 1.0)]
+     if r1("a0.5")["parameters"]["length"] == 0.2 else []),
+    ("docs/hybrid.md", "(the flat floor's over the rough one's: {} and {} % at a = 1 and 2, "
+     "against {} and {} % between 2 deg less and 2 deg more than the calibrated angle, above)",
+     lambda: [100.0 * _rel_spread([r1(f"a{a}{t}")["deposit"]["normalised_runout"]
+                                   for t in ("", "_rough")]) for a in ("1", "2")]
+     + [100.0 * _rel_spread([r1(f"a{a}_phic{c}")["deposit"]["normalised_runout"]
+                             for c in (9.1, 13.1)]) for a in ("1", "2")]),
+    ("docs/hybrid.md", "the column keeps its area and within {} % its number of grains",
+     lambda: [max(100.0 * abs(1.0 - r1(f"a{a}_rough")["discrete"]["column_elements"]
+                              / r1(f"a{a}")["discrete"]["column_elements"])
+                  for a in ("0.5", "1", "2"))]),
+    ("docs/hybrid.md", "less than the run-out: on the rough floor it is within {} % of the "
+     "rods' at a = 1 and 2",
      lambda: [g] if (g := max(abs(_r1_height_gap(f"a{a}_rough")) for a in ("1", "2")))
      <= 5.0 else []),
     ("docs/hybrid.md", "The case's floor is a smooth plane on which a grain slides at the "

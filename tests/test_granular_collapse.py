@@ -101,19 +101,25 @@ def test_granular_collapse_coarse(case, tmp_path):
 
 def test_rough_floor_is_a_sawtooth_under_an_unchanged_column(case):
     """``floor="rough"``: the floor's top, under the column and along the runway, is a triangle
-    wave of half a grain from valley to peak about y = 0 (vertices at 0 and +-size/4, both
-    signs), the column keeps the flat floor's area L0 H0 (whole wavelengths under it, nx
-    even), and a structured column is refused with the parameter to change."""
+    wave of half a grain from valley to peak about y = 0 (vertices at 0, the two ends, and
+    +-size/4, both signs), the column keeps the flat floor's area L0 H0 (whole wavelengths
+    under it, nx even) and about its number of grains (one edge a cell along the teeth: the
+    grains keep their size), and a structured or quadrilateral column is refused with the
+    parameters to change."""
     from hybrid.geometry import build_mesh, load_builder
     from hybrid.parameters import ParameterError
 
     mod = case("granular_collapse")
-    L0, nx, a = 0.2, 8, 1.0
+    L0, nx, a = 0.2, 20, 1.0
     size = L0 / nx
-    mesh = build_mesh(load_builder(mod.MESHES / "column.py"), length=L0, height=a * L0, nx=nx,
-                      ny=nx, runway=mod.runway(L0, a), wall=2 * size, depth=2 * size,
-                      cells="triangle", structured=False, roughness=0.5 * size)
+    meshes = {r: build_mesh(load_builder(mod.MESHES / "column.py"), length=L0, height=a * L0,
+                            nx=nx, ny=nx, runway=mod.runway(L0, a), wall=2 * size,
+                            depth=2 * size, cells="triangle", structured=False, roughness=r)
+              for r in (0.0, 0.5 * size)}
+    mesh = meshes[0.5 * size]
     assert mesh.group_area("column") == pytest.approx(L0 * a * L0, rel=1e-12)
+    grains = len(mesh.cells("column")) / len(meshes[0.0].cells("column"))
+    assert 0.9 < grains < 1.1
     pts, cells = mesh.cell_vertices()
     floor = cells[mesh.cells("floor")]
     edges = np.sort(np.stack([floor, np.roll(floor, -1, axis=1)], axis=2).reshape(-1, 2), axis=1)
@@ -124,8 +130,9 @@ def test_rough_floor_is_a_sawtooth_under_an_unchanged_column(case):
     assert np.abs(top[:, 1]).max() == pytest.approx(0.25 * size, rel=1e-12)
     assert top[:, 1].min() == pytest.approx(-0.25 * size, rel=1e-12)
     assert np.all(np.isclose(np.abs(top[:, 1]), 0.25 * size) | np.isclose(top[:, 1], 0.0))
-    with pytest.raises(ParameterError, match="structured=false"):
-        mod.Parameters(floor="rough", structured=True)
+    for bad in ({"structured": True}, {"cells": "quadrilateral"}):
+        with pytest.raises(ParameterError, match="structured=false --set cells=triangle"):
+            mod.Parameters(floor="rough", **bad)
 
 
 def test_a_deposit_still_moving_is_compared_with_nothing(case, tmp_path):
