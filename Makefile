@@ -364,7 +364,8 @@ docs-r1: setup
 # R1's assumed grain parameters, each changed alone at a = 1 and 2: the contact damping ratio
 # (0.1 and 0.6 beside the case's 0.3), the grains' stiffness (E ten times the case's 840 kPa)
 # and the contact angle (the calibrated 11.1 deg less 2, and 1 and 2 more: its uncertainty); the
-# experiment's unknown floor, rough (a floor of fixed grains) at a = 0.5, 1 and 2
+# experiment's unknown floor, rough (a sawtooth standing in for grains fixed to it) at a = 0.5,
+# 1 and 2
 docs-r1-assumptions: setup
 	mkdir -p docs/summaries
 	for a in 2 1; do for z in 0.1 0.6; do $(PY) -m hybrid run cases/granular_collapse.py \
@@ -377,7 +378,7 @@ docs-r1-assumptions: setup
 	  --set progress=false --overwrite || [ $$? -eq 4 ] || exit 1; done; done
 	for a in 1 2; do for r in zeta0.1 zeta0.6 E8400 phic9.1 phic12.1 phic13.1; do \
 	  cp $(DOCS_RUN)/r1_a$${a}_$$r/summary.json docs/summaries/r1_a$${a}_$$r.json; done; done
-	# the floor: a floor of fixed grains (a sawtooth) instead of the smooth plane
+	# the floor: a sawtooth standing in for grains fixed to it, instead of the smooth plane
 	for a in 0.5 1 2; do $(PY) -m hybrid run cases/granular_collapse.py \
 	  --out $(DOCS_RUN)/r1_a$${a}_rough --set aspect=$$a --set floor=rough \
 	  --set progress=false --overwrite || [ $$? -eq 4 ] || exit 1; \

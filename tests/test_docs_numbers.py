@@ -518,9 +518,9 @@ def _r1_floor() -> list[float]:
     """R1 on the rough floor against the flat one: the run-out's shortening at a = 0.5, 1, 2 [%];
     [] unless the runs differ in the floor alone, each shortening is more than twice the 15 %
     bar and more than one packing's scatter, the height moves less than the run-out, the
-    floor moves the run-out (larger over smaller) more than the +-2 deg contact angles do at
-    a = 1 and 2, and the rods (Bui's surface at a = 0.5) lie between the two floors (the
-    words of the quote)."""
+    floor moves the run-out (larger over smaller) about as far as the +-2 deg contact angles
+    do at a = 1 (within a tenth) and further at a = 2, and the rods (Bui's surface at
+    a = 0.5) lie between the two floors (the words of the quote)."""
     same = all({k: v for k, v in r1(f"a{a}_rough")["parameters"].items() if k != "floor"}
                == {k: v for k, v in r1(f"a{a}")["parameters"].items() if k != "floor"}
                and r1(f"a{a}_rough")["parameters"]["floor"] == "rough"
@@ -544,7 +544,7 @@ def _r1_floor() -> list[float]:
                and rough["0.5"]["runout_m"] < bui < flat["0.5"]["runout_m"])
     if (same and height_less and between
             and all(v > 30.0 and v > w for v, w in zip(short, scatter))
-            and all(floor[a] > angle[a] for a in ("1", "2"))):
+            and floor["2"] > 1.1 * angle["2"] and abs(floor["1"] / angle["1"] - 1.0) <= 0.1):
         return short
     return []
 
@@ -1333,9 +1333,11 @@ QUOTES: list[Quote] = [
      if all(-15.0 <= _r1_gap(run) < 0.0 for run in _r1_packings("1"))
      and all(_r1_gap(run) < -15.0 for run in _r1_packings("2")) else []),
     ("docs/hybrid.md", "ends {} m from the back wall, and the computed deposit {} m from it "
-     "({} % further)",
+     "({} % further; (L_inf - L0) / L0 {} % beyond the measured one)",
      lambda: [x := ref.bui2008_final_surface()[-1][0], y := r1("a0.5")["deposit"]["runout_m"],
-              100.0 * (y / x - 1.0)]),
+              100.0 * (y / x - 1.0),
+              100.0 * (r1("a0.5")["deposit"]["normalised_runout"] / (x / 0.2 - 1.0) - 1.0)]
+     if r1("a0.5")["parameters"]["length"] == 0.2 else []),
     *[("docs/hybrid.md", f"| {words} | {{}}, {{}} | {{}}, {{}} | {{}}, {{}} |",
        lambda tail=tail: [r1(f"a{a}{tail}")["deposit"][k] for a in ("0.5", "1", "2")
                           for k in ("normalised_runout", "height_over_H0")])
@@ -1344,8 +1346,8 @@ QUOTES: list[Quote] = [
      lambda: [r1("a0.5")["deposit"]["references"]["rods2015_height"],
               *[r1(f"a{a}")["deposit"]["references"][k] for a in ("1", "2")
                 for k in ("rods2015_runout", "rods2015_height")]]),
-    ("docs/hybrid.md", "The rough floor shortens the run-out by {}, {} and {} % at a = 0.5, 1 "
-     "and 2", _r1_floor),
+    ("docs/hybrid.md", "The rough floor shortens the run-out (L_inf - L0) / L0 by {}, {} and {} % "
+     "at a = 0.5, 1 and 2", _r1_floor),
     ("docs/hybrid.md", "at a = 1 and 2 the rough floor runs {} and {} % short of them and the "
      "flat one {} and {} % beyond",
      lambda: [_r1_gap("a1_rough"), _r1_gap("a2_rough"), -_r1_gap("a1"), -_r1_gap("a2")]),

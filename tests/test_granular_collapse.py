@@ -71,10 +71,10 @@ def test_deposit_walks_from_the_wall_not_from_behind_it():
 def test_granular_collapse_coarse(case, tmp_path):
     """Coarse grains (L0 / 8): a = 0.5 and a = 1.5 reach rest with bounded energy and their
     elements and mass; the taller column runs out further (normalised by L0) and keeps less of
-    its height, as in every experiment. On a rough floor (a floor of fixed grains) the a = 1.5
-    column reaches rest too, and runs out less far and keeps more of its height than on the
-    smooth one: the packing must shear above the teeth instead of sliding on a plane at the
-    contact angle."""
+    its height, as in every experiment. On a rough floor (a sawtooth standing in for grains
+    fixed to it) the a = 1.5 column reaches rest too, and runs out less far and keeps more of
+    its height than on the smooth one: the packing must shear above the teeth instead of
+    sliding on a plane at the contact angle."""
     mod = case("granular_collapse")
     runs = {a: mod.main(out=tmp_path / f"a{a}", aspect=a, nx=8, progress=False)
             for a in (0.5, 1.5)}
