@@ -549,6 +549,28 @@ def _r1_floor() -> list[float]:
     return []
 
 
+def _r1_rough_grain_size() -> list[float]:
+    """L_inf's growth [%] from L0 / 10 to L0 / 20 and from L0 / 20 to L0 / 30 on the rough floor
+    at a = 0.5 and 1, then the same on the flat floor; [] unless the runs differ from the L0 / 20
+    rough ones in nx alone, from L0 / 10 to L0 / 30 the rough floor's growth is smaller than the
+    flat floor's at both aspect ratios, and a step of the rough floor's is above the 10 % bar
+    at both (the words: part of the dependence taken out, not enough for the bar)."""
+    def steps(tail: str, a: str) -> list[float]:
+        L = [r1(f"a{a}{n}{tail}")["deposit"]["runout_m"] for n in ("_nx10", "", "_nx30")]
+        return [100.0 * (L[1] / L[0] - 1.0), 100.0 * (L[2] / L[1] - 1.0)]
+    same = all({k: v for k, v in r1(f"a{a}_nx{n}_rough")["parameters"].items() if k != "nx"}
+               == {k: v for k, v in r1(f"a{a}_rough")["parameters"].items() if k != "nx"}
+               for a in ("0.5", "1") for n in (10, 30))
+    rough = {a: steps("_rough", a) for a in ("0.5", "1")}
+    flat = {a: steps("", a) for a in ("0.5", "1")}
+    def total(v: list[float]) -> float:
+        return (1.0 + v[0] / 100.0) * (1.0 + v[1] / 100.0)
+    if same and all(total(rough[a]) < total(flat[a]) and max(rough[a]) > 10.0
+                    for a in ("0.5", "1")):
+        return [*rough["0.5"], *rough["1"], *flat["0.5"], *flat["1"]]
+    return []
+
+
 def _restitution(zeta: float) -> float:
     """Coefficient of restitution of a linear contact of damping ratio ``zeta``."""
     return math.exp(-math.pi * zeta / math.sqrt(1.0 - zeta * zeta))
@@ -1373,6 +1395,14 @@ QUOTES: list[Quote] = [
      "rods' at a = 1 and 2",
      lambda: [g] if (g := max(abs(_r1_height_gap(f"a{a}_rough")) for a in ("1", "2")))
      <= 5.0 else []),
+    ("docs/hybrid.md", "L_inf grows by {} and {} % from L0 / 10 to L0 / 20 and on to L0 / 30 at "
+     "a = 0.5, and by {} and {} % at a = 1, against {} and {} %, {} and {} % on the flat floor "
+     "(above)", _r1_rough_grain_size),
+    ("docs/hybrid.md", "(from L0 / 10 to L0 / 30, {} against {} % at\na = 0.5 and {} against {} % "
+     "at a = 1), not enough for the 10 % bar",
+     lambda: [[100.0 * ((1.0 + x / 100.0) * (1.0 + y / 100.0) - 1.0)
+               for x, y in zip(v[0::2], v[1::2])][i] for i in (0, 2, 1, 3)]
+     if (v := _r1_rough_grain_size()) else []),
     ("docs/hybrid.md", "The case's floor is a smooth plane on which a grain slides at the "
      "contact angle\n({} deg)", lambda: [r1("a1")["grains"]["contact_phi_deg"]]),
     *[("docs/hybrid.md", f"| {a} | {{}}, {{}} | {{}}, {{}} | {{}}, {{}} |",
