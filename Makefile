@@ -365,7 +365,7 @@ docs-r1: setup
 # (0.1 and 0.6 beside the case's 0.3), the grains' stiffness (E ten times the case's 840 kPa)
 # and the contact angle (the calibrated 11.1 deg less 2, and 1 and 2 more: its uncertainty); the
 # experiment's unknown floor, rough (a sawtooth standing in for grains fixed to it) at a = 0.5,
-# 1 and 2, and on it grains of L0 / 10 and L0 / 30 at a = 0.5 and 1
+# 1 and 2, and on it grains of L0 / 10 and L0 / 30 at a = 0.5 and 1; a structured mesh of squares
 docs-r1-assumptions: setup
 	mkdir -p docs/summaries
 	for a in 2 1; do for z in 0.1 0.6; do $(PY) -m hybrid run cases/granular_collapse.py \
@@ -383,6 +383,11 @@ docs-r1-assumptions: setup
 	  --out $(DOCS_RUN)/r1_a$${a}_rough --set aspect=$$a --set floor=rough \
 	  --set progress=false --overwrite || [ $$? -eq 4 ] || exit 1; \
 	  cp $(DOCS_RUN)/r1_a$${a}_rough/summary.json docs/summaries/r1_a$${a}_rough.json; done
+	# a structured mesh of squares instead of the triangles, at a = 0.5, 1 and 2
+	for a in 0.5 1 2; do $(PY) -m hybrid run cases/granular_collapse.py \
+	  --out $(DOCS_RUN)/r1_a$${a}_squares --set aspect=$$a --set cells=quadrilateral \
+	  --set structured=true --set progress=false --overwrite || [ $$? -eq 4 ] || exit 1; \
+	  cp $(DOCS_RUN)/r1_a$${a}_squares/summary.json docs/summaries/r1_a$${a}_squares.json; done
 	# and its grain size: L0 / 10 and L0 / 30 at a = 0.5 and 1
 	for a in 0.5 1; do for n in 10 30; do $(PY) -m hybrid run cases/granular_collapse.py \
 	  --out $(DOCS_RUN)/r1_a$${a}_nx$${n}_rough --set aspect=$$a --set nx=$$n --set floor=rough \

@@ -1403,6 +1403,17 @@ QUOTES: list[Quote] = [
      lambda: [[100.0 * ((1.0 + x / 100.0) * (1.0 + y / 100.0) - 1.0)
                for x, y in zip(v[0::2], v[1::2])][i] for i in (0, 2, 1, 3)]
      if (v := _r1_rough_grain_size()) else []),
+    ("docs/hybrid.md", "barely moves at a = 0.5 ((L_inf - L0) / L0 {}: its stacked squares "
+     "stand without lateral support) and at a = 1 and 2 runs out less far than the triangles "
+     "((L_inf - L0) / L0 {} and {}, H_inf / H0 {} and {})",
+     lambda: [r1("a0.5_squares")["deposit"]["normalised_runout"],
+              *[r1(f"a{a}_squares")["deposit"]["normalised_runout"] for a in ("1", "2")],
+              *[r1(f"a{a}_squares")["deposit"]["height_over_H0"] for a in ("1", "2")]]
+     if r1("a0.5_squares")["deposit"]["normalised_runout"] < 0.05
+     and all(r1(f"a{a}_squares")["deposit"]["normalised_runout"]
+             < r1(f"a{a}")["deposit"]["normalised_runout"] for a in ("1", "2"))
+     and all((r1(f"a{a}_squares")["parameters"]["cells"], r1(f"a{a}_squares")["parameters"][
+         "structured"]) == ("quadrilateral", True) for a in ("0.5", "1", "2")) else []),
     ("docs/hybrid.md", "The case's floor is a smooth plane on which a grain slides at the "
      "contact angle\n({} deg)", lambda: [r1("a1")["grains"]["contact_phi_deg"]]),
     *[("docs/hybrid.md", f"| {a} | {{}}, {{}} | {{}}, {{}} | {{}}, {{}} |",
