@@ -189,8 +189,11 @@ docs-h2-settlement: setup
 	# default mesh, the meshes where the load ramp stalls or stops short, the refined one and
 	# two settlement-controlled paths
 	$(call h2_continuum_runs,h2_hold,--set continuum_hold_flipping=true,$(H2_HOLD_RUNS))
-	# the same meshes under load control where it stalls: the message kept
-	for run in "W4.8048 --set width=4.8048" "triangle --set cells=triangle"; do \
+	# the same meshes under load control where it stalls, and the perfectly plastic soil on the
+	# refined triangles: the message kept
+	for run in "W4.8048 --set width=4.8048" "triangle --set cells=triangle" \
+	    "triangle_fine0.04_perfect --set cells=triangle --set fine=0.04 \
+	    --set residual_cohesion=69"; do \
 	    set -- $$run; name=h2_load_$$1; shift; rm -f docs/summaries/$$name.stopped.txt; \
 	    $(PY) -m hybrid run cases/footing_failure.py --out $(DOCS_RUN)/$$name --overwrite \
 	    --set progress=false --set discrete=false "$$@" 2> $(DOCS_RUN)/$$name.stderr; rc=$$?; \

@@ -1414,6 +1414,10 @@ QUOTES: list[Quote] = [
              < r1(f"a{a}")["deposit"]["normalised_runout"] for a in ("1", "2"))
      and all((r1(f"a{a}_squares")["parameters"]["cells"], r1(f"a{a}_squares")["parameters"][
          "structured"]) == ("quadrilateral", True) for a in ("0.5", "1", "2")) else []),
+    ("docs/hybrid.md", "the perfectly plastic soil stalls\n  the same way on the refined "
+     "triangles, at {} kPa",
+     lambda: [q] if (q := _stopped_at("h2_load_triangle_fine0.04_perfect", "load factor",
+                                      RAN_AWAY_NOT)) == q else []),
     ("docs/hybrid.md", "The case's floor is a smooth plane on which a grain slides at the "
      "contact angle\n({} deg)", lambda: [r1("a1")["grains"]["contact_phi_deg"]]),
     *[("docs/hybrid.md", f"| {a} | {{}}, {{}} | {{}}, {{}} | {{}}, {{}} |",
