@@ -46,7 +46,9 @@ def random_pile(rng, n_el, span):
     en = np.arange(4 * n_el, dtype=np.int64).reshape(n_el, 4)
     v = rng.normal(size=x.shape)
     mass = np.full(4 * n_el, 0.25)
-    table = np.array([[1e5, 5e4, 0.6, 0.2]])
+    # the full row [k_n, k_t, mu, zeta, c]: the unchecked path (add_contact_forces) reads the
+    # cohesion column, which only the checked contact_forces adds to a 4-column table
+    table = np.array([[1e5, 5e4, 0.6, 0.2, 0.0]])
     return x, en, v, mass, np.zeros(n_el, dtype=np.int32), table
 
 
