@@ -31,9 +31,8 @@ Set-up
        ``floor`` = "flat" (default) is a smooth plane on which a grain slides at the contact
        angle, smoother than the packing; "rough" a sawtooth standing in for a layer of grains
        fixed to the floor, half a grain from valley to peak, its wavelength two grains, over
-       which the packing must shear
-       (meshes/column.py). The grains themselves stay elastic: the flow is grains sliding
-       and rolling on each other, not plastic flow inside elements.
+       which the packing must shear (meshes/column.py). The grains themselves stay elastic:
+       the flow is grains sliding and rolling on each other, not plastic flow inside elements.
     3. Discrete: the gate is removed (its rollers released) at t = 0 and the run followed until
        rest (E_kin <= ``rest`` x its peak). No mass damping: nothing in the experiment resists
        the flight of a grain (air drag on a 1 mm bar at 1 m/s is negligible). Collisions

@@ -514,6 +514,22 @@ def _r1_angle_spans() -> list[float]:
     return []
 
 
+def _r1_differ_only_in(run: str, base: str, key: str) -> bool:
+    """Whether R1's runs ``run`` and ``base`` have the same parameters but for ``key``."""
+    def rest(name: str) -> dict[str, Any]:
+        return {k: v for k, v in r1(name)["parameters"].items() if k != key}
+    return rest(run) == rest(base)
+
+
+def _bui_runout() -> float | None:
+    """Bui et al.'s measured (L_inf - L0) / L0 (the end of the digitised final surface); None
+    unless R1's a = 0.5 run is their column (the same L0)."""
+    bui = ref.bui2008_collapse()
+    if r1("a0.5")["parameters"]["length"] != bui.length:
+        return None
+    return ref.bui2008_final_surface()[-1][0] / bui.length - 1.0
+
+
 def _r1_floor() -> list[float]:
     """R1 on the rough floor against the flat one: the run-out's shortening at a = 0.5, 1, 2 [%];
     [] unless the runs differ in the floor alone, each shortening is more than twice the 15 %
@@ -521,8 +537,7 @@ def _r1_floor() -> list[float]:
     floor moves the run-out (larger over smaller) about as far as the +-2 deg contact angles
     do at a = 1 (within a tenth) and further at a = 2, and the rods (Bui's surface at
     a = 0.5) lie between the two floors (the words of the quote)."""
-    same = all({k: v for k, v in r1(f"a{a}_rough")["parameters"].items() if k != "floor"}
-               == {k: v for k, v in r1(f"a{a}")["parameters"].items() if k != "floor"}
+    same = all(_r1_differ_only_in(f"a{a}_rough", f"a{a}", "floor")
                and r1(f"a{a}_rough")["parameters"]["floor"] == "rough"
                for a in ("0.5", "1", "2"))
     flat = {a: r1(f"a{a}")["deposit"] for a in ("0.5", "1", "2")}
@@ -549,26 +564,28 @@ def _r1_floor() -> list[float]:
     return []
 
 
-def _r1_rough_grain_size() -> list[float]:
-    """L_inf's growth [%] from L0 / 10 to L0 / 20 and from L0 / 20 to L0 / 30 on the rough floor
-    at a = 0.5 and 1, then the same on the flat floor; [] unless the runs differ from the L0 / 20
-    rough ones in nx alone, from L0 / 10 to L0 / 30 the rough floor's growth is smaller than the
-    flat floor's at both aspect ratios, and a step of the rough floor's is above the 10 % bar
-    at both (the words: part of the dependence taken out, not enough for the bar)."""
-    def steps(tail: str, a: str) -> list[float]:
-        L = [r1(f"a{a}{n}{tail}")["deposit"]["runout_m"] for n in ("_nx10", "", "_nx30")]
-        return [100.0 * (L[1] / L[0] - 1.0), 100.0 * (L[2] / L[1] - 1.0)]
-    same = all({k: v for k, v in r1(f"a{a}_nx{n}_rough")["parameters"].items() if k != "nx"}
-               == {k: v for k, v in r1(f"a{a}_rough")["parameters"].items() if k != "nx"}
+def _r1_grain_growth(tail: str, a: str) -> list[float]:
+    """L_inf's growth [%] at ``a`` from grains of L0 / 10 to L0 / 20, from L0 / 20 to L0 / 30,
+    and from L0 / 10 to L0 / 30, of the runs ``r1_a<a>_nx<n><tail>``."""
+    L = [r1(f"a{a}{n}{tail}")["deposit"]["runout_m"] for n in ("_nx10", "", "_nx30")]
+    return [100.0 * (L[1] / L[0] - 1.0), 100.0 * (L[2] / L[1] - 1.0), 100.0 * (L[2] / L[0] - 1.0)]
+
+
+def _r1_rough_grain_size() -> dict[str, dict[str, list[float]]]:
+    """``_r1_grain_growth`` on the rough and the flat floor ("rough", "flat") at a = 0.5 and 1;
+    {} unless the runs differ from the L0 / 20 rough ones in nx alone, from L0 / 10 to L0 / 30
+    the rough floor's growth is smaller than the flat floor's at both aspect ratios, and a step
+    of the rough floor's is above the 10 % bar at both (the words: part of the dependence taken
+    out, not enough for the bar)."""
+    same = all(_r1_differ_only_in(f"a{a}_nx{n}_rough", f"a{a}_rough", "nx")
                for a in ("0.5", "1") for n in (10, 30))
-    rough = {a: steps("_rough", a) for a in ("0.5", "1")}
-    flat = {a: steps("", a) for a in ("0.5", "1")}
-    def total(v: list[float]) -> float:
-        return (1.0 + v[0] / 100.0) * (1.0 + v[1] / 100.0)
-    if same and all(total(rough[a]) < total(flat[a]) and max(rough[a]) > 10.0
+    growth = {floor: {a: _r1_grain_growth(tail, a) for a in ("0.5", "1")}
+              for floor, tail in (("rough", "_rough"), ("flat", ""))}
+    rough, flat = growth["rough"], growth["flat"]
+    if same and all(rough[a][2] < flat[a][2] and max(rough[a][:2]) > 10.0
                     for a in ("0.5", "1")):
-        return [*rough["0.5"], *rough["1"], *flat["0.5"], *flat["1"]]
-    return []
+        return growth
+    return {}
 
 
 def _restitution(zeta: float) -> float:
@@ -1358,8 +1375,8 @@ QUOTES: list[Quote] = [
      "({} % further; (L_inf - L0) / L0 {} % beyond the measured one)",
      lambda: [x := ref.bui2008_final_surface()[-1][0], y := r1("a0.5")["deposit"]["runout_m"],
               100.0 * (y / x - 1.0),
-              100.0 * (r1("a0.5")["deposit"]["normalised_runout"] / (x / 0.2 - 1.0) - 1.0)]
-     if r1("a0.5")["parameters"]["length"] == 0.2 else []),
+              100.0 * (r1("a0.5")["deposit"]["normalised_runout"] / b - 1.0)]
+     if (b := _bui_runout()) is not None else []),
     *[("docs/hybrid.md", f"| {words} | {{}}, {{}} | {{}}, {{}} | {{}}, {{}} |",
        lambda tail=tail: [r1(f"a{a}{tail}")["deposit"][k] for a in ("0.5", "1", "2")
                           for k in ("normalised_runout", "height_over_H0")])
@@ -1376,11 +1393,11 @@ QUOTES: list[Quote] = [
     ("docs/hybrid.md", "ends between the two floors too: {} m from the back wall, against {} m "
      "on the rough floor and {} m on the flat one ((L_inf - L0) / L0 {} % short of the "
      "measured one and {} % beyond it)",
-     lambda: [x := ref.bui2008_final_surface()[-1][0],
+     lambda: [ref.bui2008_final_surface()[-1][0],
               r1("a0.5_rough")["deposit"]["runout_m"], r1("a0.5")["deposit"]["runout_m"],
-              100.0 * (1.0 - r1("a0.5_rough")["deposit"]["normalised_runout"] / (x / 0.2 - 1.0)),
-              100.0 * (r1("a0.5")["deposit"]["normalised_runout"] / (x / 0.2 - 1.0) - 1.0)]
-     if r1("a0.5")["parameters"]["length"] == 0.2 else []),
+              100.0 * (1.0 - r1("a0.5_rough")["deposit"]["normalised_runout"] / b),
+              100.0 * (r1("a0.5")["deposit"]["normalised_runout"] / b - 1.0)]
+     if (b := _bui_runout()) is not None else []),
     ("docs/hybrid.md", "(the flat floor's over the rough one's: {} and {} % at a = 1 and 2, "
      "against {} and {} % between 2 deg less and 2 deg more than the calibrated angle, above)",
      lambda: [100.0 * _rel_spread([r1(f"a{a}{t}")["deposit"]["normalised_runout"]
@@ -1397,12 +1414,12 @@ QUOTES: list[Quote] = [
      <= 5.0 else []),
     ("docs/hybrid.md", "L_inf grows by {} and {} % from L0 / 10 to L0 / 20 and on to L0 / 30 at "
      "a = 0.5, and by {} and {} % at a = 1, against {} and {} %, {} and {} % on the flat floor "
-     "(above)", _r1_rough_grain_size),
+     "(above)", lambda: [v for g in _r1_rough_grain_size().values() for a in ("0.5", "1")
+                        for v in g[a][:2]]),
     ("docs/hybrid.md", "(from L0 / 10 to L0 / 30, {} against {} % at\na = 0.5 and {} against {} % "
      "at a = 1), not enough for the 10 % bar",
-     lambda: [[100.0 * ((1.0 + x / 100.0) * (1.0 + y / 100.0) - 1.0)
-               for x, y in zip(v[0::2], v[1::2])][i] for i in (0, 2, 1, 3)]
-     if (v := _r1_rough_grain_size()) else []),
+     lambda: [g[floor][a][2] for a in ("0.5", "1") for floor in ("rough", "flat")]
+     if (g := _r1_rough_grain_size()) else []),
     ("docs/hybrid.md", "barely moves at a = 0.5 ((L_inf - L0) / L0 {}: its stacked squares "
      "stand without lateral support) and at a = 1 and 2 runs out less far than the triangles "
      "((L_inf - L0) / L0 {} and {}, H_inf / H0 {} and {})",
