@@ -63,19 +63,25 @@ verify: setup
 
 # the hybrid cases behind docs/hybrid.md and docs/carsington.md: their summaries (docs/summaries/,
 # every figure the docs quote; tests/test_docs_numbers.py checks the quotes) and figures
-# (docs/figures/). Eight independent parts (`make -j2 docs` runs two at once), then the quoted
+# (docs/figures/). Nine independent parts (`make -j2 docs` runs two at once), then the quoted
 # figures rewritten from the new summaries.
 DOCS_RUN := results/docs
 CARS := $(PY) -m hybrid run cases/carsington.py --set progress=false --overwrite
 .PHONY: docs-h2 docs-h2-settlement docs-h3-d10 docs-carsington-construction \
-	docs-carsington-sensitivity docs-carsington-slide docs-r1 docs-r1-assumptions
+	docs-carsington-sensitivity docs-carsington-slide docs-r1 docs-r1-assumptions \
+	docs-r1-grain-size
 
 docs: docs-h2 docs-h2-settlement docs-h3-d10 docs-carsington-construction \
-	docs-carsington-sensitivity docs-carsington-slide docs-r1 docs-r1-assumptions
+	docs-carsington-sensitivity docs-carsington-slide docs-r1 docs-r1-assumptions \
+	docs-r1-grain-size
 	# R1's deposits on the two floors: summaries of two parts (docs-r1, docs-r1-assumptions)
 	$(PY) -c "import json, runpy; f = runpy.run_path('cases/granular_collapse.py')['plot_deposits']; \
 	  f('docs/figures/hybrid/r1_floor.png', [json.load(open(f'docs/summaries/r1_a{a}{r}.json')) \
 	  for a in ('0.5', '1', '2') for r in ('', '_rough')])"
+	# and on grains fine enough for the run-out to stop growing (docs-r1-grain-size)
+	$(PY) -c "import json, runpy; f = runpy.run_path('cases/granular_collapse.py')['plot_deposits']; \
+	  f('docs/figures/hybrid/r1_fine.png', [json.load(open(f'docs/summaries/r1_{r}.json')) \
+	  for r in ('a0.5_nx60', 'a0.5_nx60_rough', 'a1_nx60', 'a1_nx60_rough')])"
 	# every figure the docs quote rewritten from the new summaries (the changes are printed:
 	# read them, and mend the words around a figure that changed its meaning)
 	$(PY) tests/test_docs_numbers.py
@@ -201,6 +207,8 @@ docs-h2-settlement: setup
 	    grep "stage incomplete" $(DOCS_RUN)/$$name.stderr > docs/summaries/$$name.stopped.txt; \
 	    elif [ $$rc -ne 0 ]; then exit 1; fi; done
 
+H3_LENGTHS := 19.96 19.97 19.98 19.99 20.01 20.02 20.03 20.04
+
 docs-h3-d10: setup
 	mkdir -p docs/summaries docs/figures/hybrid
 	$(PY) -m hybrid run cases/retaining_wall_collapse.py --out $(DOCS_RUN)/h3 --set progress=false --overwrite
@@ -212,14 +220,21 @@ docs-h3-d10: setup
 	    || exit 1; done
 	$(PY) -m hybrid run cases/retaining_wall_collapse.py --out $(DOCS_RUN)/h3_unstructured \
 	    --overwrite --set progress=false --set structured=false
-	# the default and the unstructured mesh with the backfill 0.1 % shorter and longer: how far
-	# one run's run-out moves under a change far below any test's precision
-	for L in 19.98 20.02; do $(PY) -m hybrid run cases/retaining_wall_collapse.py \
+	# the default and the unstructured mesh with the backfill up to 0.2 % shorter and longer
+	# (nine runs on each), the refined grid 0.1 % shorter and longer: how far one run's run-out
+	# moves under a change far below any test's precision, and the mean of each mesh's runs
+	for L in $(H3_LENGTHS); do $(PY) -m hybrid run cases/retaining_wall_collapse.py \
 	    --out $(DOCS_RUN)/h3_L$$L --overwrite --set progress=false --set length=$$L || exit 1; \
 	    $(PY) -m hybrid run cases/retaining_wall_collapse.py --out $(DOCS_RUN)/h3_unstructured_L$$L \
-	    --overwrite --set progress=false --set length=$$L --set structured=false || exit 1; done
-	for c in h3 d10 h3_size1.0 h3_size0.25 h3_unstructured h3_L19.98 h3_L20.02 \
-	    h3_unstructured_L19.98 h3_unstructured_L20.02; do \
+	    --overwrite --set progress=false --set length=$$L --set structured=false || exit 1; \
+	    cp $(DOCS_RUN)/h3_L$$L/summary.json docs/summaries/h3_L$$L.json; \
+	    cp $(DOCS_RUN)/h3_unstructured_L$$L/summary.json docs/summaries/h3_unstructured_L$$L.json; \
+	    done
+	for L in 19.98 20.02; do $(PY) -m hybrid run cases/retaining_wall_collapse.py \
+	    --out $(DOCS_RUN)/h3_size0.25_L$$L --overwrite --set progress=false --set size=0.25 \
+	    --set length=$$L || exit 1; \
+	    cp $(DOCS_RUN)/h3_size0.25_L$$L/summary.json docs/summaries/h3_size0.25_L$$L.json; done
+	for c in h3 d10 h3_size1.0 h3_size0.25 h3_unstructured; do \
 	    cp $(DOCS_RUN)/$$c/summary.json docs/summaries/$$c.json; done
 	cp $(DOCS_RUN)/h3/thrust_translation.png docs/figures/hybrid/h3_thrust_translation.png
 	cp $(DOCS_RUN)/h3/handover_plastic_strain.png docs/figures/hybrid/h3_handover_plastic_strain.png
@@ -397,6 +412,28 @@ docs-r1-assumptions: setup
 	  --set progress=false --overwrite || [ $$? -eq 4 ] || exit 1; \
 	  cp $(DOCS_RUN)/r1_a$${a}_nx$${n}_rough/summary.json docs/summaries/r1_a$${a}_nx$${n}_rough.json; \
 	  done; done
+
+# R1 on finer grains, where the flat floor's run-out stops growing: L0 / 40, 50 and 60 at
+# a = 0.5, L0 / 40 and 60 at a = 1, L0 / 40 at a = 2; at L0 / 40 three packings (L0 0.1 %
+# shorter and longer) at a = 0.5 and 1; the rough floor at L0 / 40 and 60 (a = 0.5 and 1)
+R1_FINE_RUNS := "a0.5_nx40 --set aspect=0.5 --set nx=40" "a0.5_nx50 --set aspect=0.5 --set nx=50" \
+	"a0.5_nx60 --set aspect=0.5 --set nx=60" "a1_nx40 --set aspect=1 --set nx=40" \
+	"a1_nx60 --set aspect=1 --set nx=60" "a2_nx40 --set aspect=2 --set nx=40" \
+	"a0.5_nx40_L0.1998 --set aspect=0.5 --set nx=40 --set length=0.1998" \
+	"a0.5_nx40_L0.2002 --set aspect=0.5 --set nx=40 --set length=0.2002" \
+	"a1_nx40_L0.1998 --set aspect=1 --set nx=40 --set length=0.1998" \
+	"a1_nx40_L0.2002 --set aspect=1 --set nx=40 --set length=0.2002" \
+	"a0.5_nx40_rough --set aspect=0.5 --set nx=40 --set floor=rough" \
+	"a1_nx40_rough --set aspect=1 --set nx=40 --set floor=rough" \
+	"a0.5_nx60_rough --set aspect=0.5 --set nx=60 --set floor=rough" \
+	"a1_nx60_rough --set aspect=1 --set nx=60 --set floor=rough"
+
+docs-r1-grain-size: setup
+	mkdir -p docs/summaries
+	for run in $(R1_FINE_RUNS); do set -- $$run; name=r1_$$1; shift; \
+	  $(PY) -m hybrid run cases/granular_collapse.py --out $(DOCS_RUN)/$$name "$$@" \
+	  --set progress=false --overwrite || [ $$? -eq 4 ] || exit 1; \
+	  cp $(DOCS_RUN)/$$name/summary.json docs/summaries/$$name.json; done
 
 bench: setup
 	$(PY) -m hybrid bench --json results/bench.json

@@ -258,7 +258,7 @@ def test_verify_whole_registry(tmp_path):
     """Every registered case (fast overrides) runs, and meets its bars or is reported, but
     for the granular collapse's 15 % bar against the aluminium rods and its 10 % bar on the
     run-out's change with the grain size, which the R-series reports as missed (its section
-    and docs/hybrid.md say why: the run-out is not converged in the grain size)."""
+    and docs/hybrid.md say why: the run-out is not converged on the report's grains)."""
     results = verification.run_cases(None, tmp_path / "runs")
     errors = [(r["id"], r["message"]) for r in results if r["status"] == "error"]
     assert not errors
