@@ -614,8 +614,19 @@ def _r1_fine(a: str) -> dict[str, str]:
     return runs
 
 
+def _r1_fine_deposit(a: str, k: str) -> dict[str, Any]:
+    """The deposit of the run ``k`` (a key of :func:`_r1_fine`) at ``a``."""
+    return r1(_r1_fine(a)[k])["deposit"]
+
+
 def _r1_fine_runout(a: str, k: str) -> float:
-    return r1(_r1_fine(a)[k])["deposit"]["runout_m"]
+    return _r1_fine_deposit(a, k)["runout_m"]
+
+
+def _r1_fine_row(a: str, keys: tuple[str, ...]) -> list[float]:
+    """(L_inf - L0) / L0 and H_inf / H0 of the runs ``keys`` at ``a``: a row of the table."""
+    return [v for k in keys for v in (_r1_fine_deposit(a, k)["normalised_runout"],
+                                      _r1_fine_deposit(a, k)["height_over_H0"])]
 
 
 def _r1_fine_converged() -> list[float]:
@@ -631,8 +642,7 @@ def _r1_fine_converged() -> list[float]:
         mean = statistics.mean(forty)
         l60 = _r1_fine_runout(a, "60")
         out[a] = [100.0 * abs(l60 / _r1_fine_runout(a, "30") - 1.0),
-                  100.0 * (r1(f"a{a}")["deposit"]["runout_m"]
-                           / r1(f"a{a}_nx10")["deposit"]["runout_m"] - 1.0),
+                  _r1_grain_growth("", a)[0],
                   100.0 * _rel_spread(forty), mean, 100.0 * abs(mean / l60 - 1.0)]
         finer = [_r1_fine_runout(a, k) for k in _r1_fine(a) if k in ("50", "60")]
         if out[a][0] > 10.0 or not all(min(forty) <= v <= max(forty) for v in finer):
@@ -648,34 +658,34 @@ def _r1_fine_beyond() -> list[float]:
     bui = _bui_runout()
     if bui is None:
         return []
-    d5 = r1(_r1_fine("0.5")["60"])["deposit"]
+    d5 = _r1_fine_deposit("0.5", "60")
     L0 = r1("a0.5")["parameters"]["length"]
     bui_L = (1.0 + bui) * L0
     rods = r1("a1")["deposit"]["references"]["rods2015_runout"]
-    gaps = [pct(r1(_r1_fine("1")[k])["deposit"]["normalised_runout"], rods)
+    gaps = [pct(_r1_fine_deposit("1", k)["normalised_runout"], rods)
             for k in ("40-", "40", "40+", "60")]
     far = pct(d5["runout_m"], bui_L)
     if min(gaps) <= 15.0 or far <= 15.0:
         return []
     return [d5["normalised_runout"], bui, d5["runout_m"], bui_L, far,
-            r1(_r1_fine("1")["60"])["deposit"]["normalised_runout"], gaps[3], rods,
+            _r1_fine_deposit("1", "60")["normalised_runout"], gaps[3], rods,
             min(gaps[:3]), max(gaps[:3])]
 
 
 def _r1_fine_h(a: str) -> list[float]:
     """H_inf / H0 of the three L0 / 40 packings and of L0 / 60 at ``a``."""
-    return [r1(_r1_fine(a)[k])["deposit"]["height_over_H0"] for k in ("40-", "40", "40+", "60")]
+    return [_r1_fine_deposit(a, k)["height_over_H0"] for k in ("40-", "40", "40+", "60")]
 
 
 def _r1_fine_heights() -> list[float]:
     """Final heights on finer grains: a = 1, the least and most of L0 / 40 (three packings)
     and L0 / 60 and the rods'; a = 0.5 at L0 / 60 and the rods'; [] unless a = 1's are all
     within 15 % of the rods (the words)."""
-    h = [r1(_r1_fine("1")[k])["deposit"]["height_over_H0"] for k in ("40-", "40", "40+", "60")]
+    h = _r1_fine_h("1")
     rods = r1("a1")["deposit"]["references"]["rods2015_height"]
     if max(abs(pct(v, rods)) for v in h) > 15.0:
         return []
-    return [min(h), max(h), rods, r1(_r1_fine("0.5")["60"])["deposit"]["height_over_H0"],
+    return [min(h), max(h), rods, _r1_fine_deposit("0.5", "60")["height_over_H0"],
             r1("a0.5")["deposit"]["references"]["rods2015_height"]]
 
 
@@ -749,9 +759,9 @@ def _r1_rough_vs_rods() -> list[float]:
     and its excess; [] unless the rods lie between the floors on both grain sizes."""
     rods = r1("a1")["deposit"]["references"]["rods2015_runout"]
     rough = r1("a1_nx40_rough")["deposit"]["normalised_runout"]
-    flat = [r1(_r1_fine("1")[k])["deposit"]["normalised_runout"] for k in ("40-", "40", "40+")]
+    flat = [_r1_fine_deposit("1", k)["normalised_runout"] for k in ("40-", "40", "40+")]
     rough60 = r1("a1_nx60_rough")["deposit"]["normalised_runout"]
-    flat60 = r1(_r1_fine("1")["60"])["deposit"]["normalised_runout"]
+    flat60 = _r1_fine_deposit("1", "60")["normalised_runout"]
     if not (rough < rods < min(flat) and rough60 < rods < flat60):
         return []
     return [rough, -pct(rough, rods), rods, min(flat), max(flat), pct(min(flat), rods),
@@ -1624,13 +1634,9 @@ QUOTES: list[Quote] = [
                               r1(run)["deposit"]["height_over_H0"])])
       for a in ("0.5", "1", "2")],
     ("docs/hybrid.md", "| 0.5 | {}, {} | {}, {}; {}, {}; {}, {} | {}, {} | {}, {} |",
-     lambda: [v for k in ("30", "40-", "40", "40+", "50", "60")
-              for v in (r1(_r1_fine("0.5")[k])["deposit"]["normalised_runout"],
-                        r1(_r1_fine("0.5")[k])["deposit"]["height_over_H0"])]),
+     lambda: _r1_fine_row("0.5", ("30", "40-", "40", "40+", "50", "60"))),
     ("docs/hybrid.md", "| 1 | {}, {} | {}, {}; {}, {}; {}, {} | - | {}, {} |",
-     lambda: [v for k in ("30", "40-", "40", "40+", "60")
-              for v in (r1(_r1_fine("1")[k])["deposit"]["normalised_runout"],
-                        r1(_r1_fine("1")[k])["deposit"]["height_over_H0"])]),
+     lambda: _r1_fine_row("1", ("30", "40-", "40", "40+", "60"))),
     ("docs/hybrid.md", "the rough floor's run-out grows on: L_inf is {} and {} m at L0 / 40 and 60 "
      "at a = 0.5 ({} and {} % beyond the size before), {} and {} m at a = 1 ({} and {} %); its "
      "teeth are half a grain high",
@@ -1656,16 +1662,14 @@ QUOTES: list[Quote] = [
      and all(_r1_fine_runout(a, "60") > r1(f"a{a}")["deposit"]["runout_m"] for a in ("0.5", "1"))
      else []),
     ("docs/hybrid.md", "| 2 | {}, {} | -; {}, {}; - | - | - |",
-     lambda: [v for k in ("30", "40") for v in (
-         r1(_r1_fine("2")[k])["deposit"]["normalised_runout"],
-         r1(_r1_fine("2")[k])["deposit"]["height_over_H0"])]),
+     lambda: _r1_fine_row("2", ("30", "40"))),
     ("docs/hybrid.md", "At a = 2 (one packing on each grain size) L_inf moves by {} % from L0 / 30 "
      "to L0 / 40, and on grains of L0 / 40 (L_inf - L0) / L0 is {}, {} % beyond the rods' {}, the "
      "final height within {} % of theirs",
      lambda: [pct(_r1_fine_runout("2", "40"), _r1_fine_runout("2", "30")),
               d["normalised_runout"], pct(d["normalised_runout"], r["rods2015_runout"]),
               r["rods2015_runout"], abs(pct(d["height_over_H0"], r["rods2015_height"]))]
-     if (d := r1(_r1_fine("2")["40"])["deposit"]) and (r := d["references"])
+     if (d := _r1_fine_deposit("2", "40")) and (r := d["references"])
      and 0.0 < pct(_r1_fine_runout("2", "40"), _r1_fine_runout("2", "30")) else []),
     ("docs/hybrid.md", "At a = 0.5 and 1 the run-out stops growing beyond L0 / 40, within one "
      "packing's scatter: the three packings at L0 / 40 scatter by {} and {} % (largest over "

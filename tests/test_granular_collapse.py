@@ -220,7 +220,7 @@ def test_granular_collapse_grain_size_converged(fine_grains):
 
 @pytest.mark.slow
 @pytest.mark.xfail(strict=True, raises=AssertionError, reason=(
-    "not met: on grains fine enough for a converged run-out the flat floor's deposit ends "
+    "not met: on grains where the run-out stops growing the flat floor's deposit ends "
     "about a third further than Bui et al.'s measured one (0.61 and 0.60 m against 0.44 m "
     "at L0 / 40 and L0 / 60; the experiment's floor is not known: docs/hybrid.md)"))
 def test_granular_collapse_converged_runout_against_bui(fine_grains):
