@@ -214,15 +214,15 @@ docs-h3-d10: setup
 	$(PY) -m hybrid run cases/retaining_wall_collapse.py --out $(DOCS_RUN)/h3 --set progress=false --overwrite
 	$(PY) -m hybrid run cases/toppling.py --out $(DOCS_RUN)/d10 --set progress=false --overwrite
 	# H3's mesh sensitivity (docs/hybrid.md): the structured mesh coarser and finer, gmsh's
-	# unstructured quadrilaterals at the default size
+	# unstructured quadrilaterals at the default size (at 0.25 m: below)
 	for size in 1.0 0.25; do $(PY) -m hybrid run cases/retaining_wall_collapse.py \
 	    --out $(DOCS_RUN)/h3_size$$size --overwrite --set progress=false --set size=$$size \
 	    || exit 1; done
 	$(PY) -m hybrid run cases/retaining_wall_collapse.py --out $(DOCS_RUN)/h3_unstructured \
 	    --overwrite --set progress=false --set structured=false
 	# the default and the unstructured mesh with the backfill up to 0.2 % shorter and longer
-	# (nine runs on each), the refined grid 0.1 % shorter and longer: how far one run's run-out
-	# moves under a change far below any test's precision, and the mean of each mesh's runs
+	# (nine runs on each): how far one run's run-out moves under a change far below any test's
+	# precision, and the mean of each mesh's runs
 	for L in $(H3_LENGTHS); do $(PY) -m hybrid run cases/retaining_wall_collapse.py \
 	    --out $(DOCS_RUN)/h3_L$$L --overwrite --set progress=false --set length=$$L || exit 1; \
 	    $(PY) -m hybrid run cases/retaining_wall_collapse.py --out $(DOCS_RUN)/h3_unstructured_L$$L \
@@ -230,10 +230,17 @@ docs-h3-d10: setup
 	    cp $(DOCS_RUN)/h3_L$$L/summary.json docs/summaries/h3_L$$L.json; \
 	    cp $(DOCS_RUN)/h3_unstructured_L$$L/summary.json docs/summaries/h3_unstructured_L$$L.json; \
 	    done
-	for L in 19.98 20.02; do $(PY) -m hybrid run cases/retaining_wall_collapse.py \
+	# the 0.25 m grid and gmsh's unstructured quadrilaterals at 0.25 m, five runs on each
+	# (backfill 19.96 to 20.04 m in steps of 0.02 m): the mesh types on refinement
+	for L in 19.96 19.98 20.02 20.04; do $(PY) -m hybrid run cases/retaining_wall_collapse.py \
 	    --out $(DOCS_RUN)/h3_size0.25_L$$L --overwrite --set progress=false --set size=0.25 \
 	    --set length=$$L || exit 1; \
 	    cp $(DOCS_RUN)/h3_size0.25_L$$L/summary.json docs/summaries/h3_size0.25_L$$L.json; done
+	for L in 19.96 19.98 20 20.02 20.04; do name=h3_unstructured_size0.25$$( [ $$L = 20 ] \
+	    || echo _L$$L ); $(PY) -m hybrid run cases/retaining_wall_collapse.py \
+	    --out $(DOCS_RUN)/$$name --overwrite --set progress=false --set size=0.25 \
+	    --set structured=false --set length=$$L || exit 1; \
+	    cp $(DOCS_RUN)/$$name/summary.json docs/summaries/$$name.json; done
 	for c in h3 d10 h3_size1.0 h3_size0.25 h3_unstructured; do \
 	    cp $(DOCS_RUN)/$$c/summary.json docs/summaries/$$c.json; done
 	cp $(DOCS_RUN)/h3/thrust_translation.png docs/figures/hybrid/h3_thrust_translation.png
@@ -341,6 +348,14 @@ docs-carsington-slide: setup
 	    $(CARS) --out $(DOCS_RUN)/$$name --set safety=false --set size=$$size \
 	    --set yellow_clay_length=25 --set discrete_softening=true || [ $$? -eq 4 ] || exit 1; \
 	    cp $(DOCS_RUN)/$$name/summary.json docs/summaries/$$name.json; done
+	# the softening analysis on the 4, 3, 2.5 and 2 m meshes with the yellow clay 3 and 6 cm
+	# shorter and longer: one run's scatter, and the means of five runs on each mesh
+	for size in 4 3 2.5 2; do for Y in 35.94 35.97 36.03 36.06; do \
+	    name=carsington_softening_size$${size}_Y$$Y; \
+	    $(CARS) --out $(DOCS_RUN)/$$name --set safety=false --set softening=true \
+	    --set softening_displacement=0.5 --set size=$$size --set yellow_clay_length=$$Y \
+	    || [ $$? -eq 4 ] || exit 1; cp $(DOCS_RUN)/$$name/summary.json docs/summaries/$$name.json; \
+	    done; done
 	for md in 0.5 3; do $(CARS) --out $(DOCS_RUN)/carsington_damping$$md --set safety=false \
 	    --set mass_damping=$$md || [ $$? -eq 4 ] || exit 1; done
 	for c in carsington_softening carsington_softening_ur0.2 carsington_softening_ur1 \
@@ -415,7 +430,8 @@ docs-r1-assumptions: setup
 
 # R1 on finer grains, where the flat floor's run-out stops growing: L0 / 40, 50 and 60 at
 # a = 0.5, L0 / 40 and 60 at a = 1, L0 / 40 at a = 2; at L0 / 40 three packings (L0 0.1 %
-# shorter and longer) at a = 0.5 and 1; the rough floor at L0 / 40 and 60 (a = 0.5 and 1)
+# shorter and longer) at a = 0.5 and 1, and at L0 / 60 at a = 1; the rough floor at L0 / 40
+# and 60 (a = 0.5 and 1)
 R1_FINE_RUNS := "a0.5_nx40 --set aspect=0.5 --set nx=40" "a0.5_nx50 --set aspect=0.5 --set nx=50" \
 	"a0.5_nx60 --set aspect=0.5 --set nx=60" "a1_nx40 --set aspect=1 --set nx=40" \
 	"a1_nx60 --set aspect=1 --set nx=60" "a2_nx40 --set aspect=2 --set nx=40" \
@@ -426,7 +442,9 @@ R1_FINE_RUNS := "a0.5_nx40 --set aspect=0.5 --set nx=40" "a0.5_nx50 --set aspect
 	"a0.5_nx40_rough --set aspect=0.5 --set nx=40 --set floor=rough" \
 	"a1_nx40_rough --set aspect=1 --set nx=40 --set floor=rough" \
 	"a0.5_nx60_rough --set aspect=0.5 --set nx=60 --set floor=rough" \
-	"a1_nx60_rough --set aspect=1 --set nx=60 --set floor=rough"
+	"a1_nx60_rough --set aspect=1 --set nx=60 --set floor=rough" \
+	"a1_nx60_L0.1998 --set aspect=1 --set nx=60 --set length=0.1998" \
+	"a1_nx60_L0.2002 --set aspect=1 --set nx=60 --set length=0.2002"
 
 docs-r1-grain-size: setup
 	mkdir -p docs/summaries

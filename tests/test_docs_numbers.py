@@ -356,10 +356,13 @@ def _calibration_check() -> list[float]:
 
 #: H3's backfill lengths [m] of the runs on the 0.5 m meshes (``make docs``: H3_LENGTHS and 20)
 H3_LENGTHS = (19.96, 19.97, 19.98, 19.99, 20.0, 20.01, 20.02, 20.03, 20.04)
+#: and on the 0.25 m meshes, structured and unstructured (``make docs``: docs-h3-d10)
+H3_REFINED_LENGTHS = (19.96, 19.98, 20.0, 20.02, 20.04)
 
 
 def _h3_runs(stem: str, lengths: tuple[float, ...] = H3_LENGTHS) -> list[dict[str, Any]]:
-    """H3's discrete summaries of one mesh (``stem``: "h3", "h3_unstructured", "h3_size0.25")
+    """H3's discrete summaries of one mesh (``stem``: "h3", "h3_unstructured", "h3_size0.25",
+    "h3_unstructured_size0.25")
     with the backfill ``lengths`` long [m], the 20 m run the mesh's own summary; ValueError
     unless each run differs from that one in its length alone, the one named."""
     base = _json(f"docs/summaries/{stem}.json")["parameters"]
@@ -408,16 +411,58 @@ def _h3_across() -> list[float]:
     return [short, mu, ms, se, short / se, (short - 10.0) / se]
 
 
+def _h3_mean_change(coarse: list[float], fine: list[float]) -> list[float]:
+    """The mean of the ``fine`` runs [m], its change from the mean of the ``coarse`` ones [%]
+    and that change's standard error [%] (first order, from the runs' standard deviations)."""
+    mf, mc = statistics.mean(fine), statistics.mean(coarse)
+    se = 100.0 * mf / mc * math.hypot(statistics.stdev(fine) / mf / math.sqrt(len(fine)),
+                                      statistics.stdev(coarse) / mc / math.sqrt(len(coarse)))
+    return [mf, pct(mf, mc), se]
+
+
 def _h3_refined_means() -> list[float]:
-    """The 0.25 m grid's mean run-out over its three runs [m], its change from the 0.5 m grid's
-    mean over nine [%] and that change's standard error [%] (as in :func:`_h3_across`); []
-    unless within the 10 % bar (the words)."""
-    f, c = _h3_runouts("h3_size0.25", (19.98, 20.0, 20.02)), _h3_runouts("h3")
-    mf, mc = statistics.mean(f), statistics.mean(c)
-    change = pct(mf, mc)
-    se = 100.0 * mf / mc * math.hypot(statistics.stdev(f) / mf / math.sqrt(len(f)),
-                                      statistics.stdev(c) / mc / math.sqrt(len(c)))
-    return [mf, change, se] if abs(change) <= 10.0 else []
+    """The 0.25 m grid's mean run-out over its five runs [m], its change from the 0.5 m grid's
+    mean over nine [%] and that change's standard error [%]; the same for the unstructured
+    meshes; the unstructured run at 20 m's change [%]; the unstructured runs' standard
+    deviations at 0.25 and 0.5 m [m]. [] unless both means' changes are within the 10 % bar,
+    the unstructured one by less than a standard error, and that single run's beyond it (the
+    words)."""
+    grid = _h3_mean_change(_h3_runouts("h3"), _h3_runouts("h3_size0.25", H3_REFINED_LENGTHS))
+    fine = _h3_runouts("h3_unstructured_size0.25", H3_REFINED_LENGTHS)
+    coarse = _h3_runouts("h3_unstructured")
+    unstructured = _h3_mean_change(coarse, fine)
+    one = pct(*(_json(f"docs/summaries/{n}.json")["discrete"]["runout_m"]
+                for n in ("h3_unstructured_size0.25", "h3_unstructured")))
+    if (abs(grid[1]) > 10.0 or not 0.0 < 10.0 - abs(unstructured[1]) < unstructured[2]
+            or abs(one) <= 10.0):
+        return []
+    return [*grid, *unstructured, abs(one), statistics.stdev(fine), statistics.stdev(coarse)]
+
+
+def _h3_refined_across() -> list[float]:
+    """On the 0.25 m meshes: the unstructured mesh's five-run mean short of the grid's [%], the
+    two means [m], that shortfall's standard error [%], its distance from the 10 % bar and
+    from none in standard errors; the run at 20 m on each: the unstructured one's shortfall
+    [%] and the two run-outs [m]. [] unless the means' shortfall is within the bar by more
+    than one standard error and less than two from none, and the single pair's beyond the
+    bar (the words)."""
+    grid = _h3_runouts("h3_size0.25", H3_REFINED_LENGTHS)
+    mean, change, se = _h3_mean_change(grid, _h3_runouts("h3_unstructured_size0.25",
+                                                         H3_REFINED_LENGTHS))
+    pair = [_json(f"docs/summaries/{n}.json")["discrete"]["runout_m"]
+            for n in ("h3_unstructured_size0.25", "h3_size0.25")]
+    pair_short = 100.0 * (1.0 - pair[0] / pair[1])
+    if not ((10.0 + change) / se > 1.0 and -change / se < 2.0 and pair_short > 10.0):
+        return []
+    return [-change, mean, statistics.mean(grid), se, (10.0 + change) / se, -change / se,
+            pair_short, *pair]
+
+
+def _h3_thrusts() -> list[float]:
+    """H3's active thrust [kN/m] on the unstructured 0.5 m mesh, the grid, the 0.25 m grid and
+    the 0.25 m unstructured mesh."""
+    return [_json(f"docs/summaries/{n}.json")["checks"]["active_thrust"]["computed"]
+            for n in ("h3_unstructured", "h3", "h3_size0.25", "h3_unstructured_size0.25")]
 
 
 def _cars_samples(size: str) -> list[dict[str, Any]]:
@@ -795,6 +840,12 @@ def _wedge(mark: str, key: str) -> float:
 Quote = tuple[str, str, Callable[[], list[float]]]
 
 SOFT_ROW = "| {} | {} | {} | {} | lift {} (to {}), {} % | {} | {} | {} | {} |"
+# the softening analysis's five runs on each of these meshes [m]: the yellow clay 35.94 to
+# 36.06 m long (the 36 m run is the table's)
+SOFT_SAMPLE_SIZES = ("4", "3", "2.5", "2")
+SOFT_SAMPLE_LENGTHS = (35.94, 35.97, 36.0, 36.03, 36.06)
+
+
 QUOTES: list[Quote] = [
     # --- README: the demo -------------------------------------------------------------------
     ("README.md", "a strip footing (B = {} m, c = {} kPa, phi = {} deg)",
@@ -1171,6 +1222,46 @@ QUOTES: list[Quote] = [
     ("docs/carsington.md", "(the crest drops {} m, the toe advances {} m)",
      lambda: [_soft_disc("carsington_softening_ur0.2")[k] for k in ("crest_drop_m",
                                                                     "toe_runout_m")]),
+    ("docs/carsington.md", "| size [m] | 35.94 m | 35.97 m | 36 m | 36.03 m | 36.06 m | toe: "
+     "mean, sd | crest drop: mean, sd |\n  |---|---|---|---|---|---|---|---|\n"
+     + "".join(f"  | {z} |" + " {}, {} |" * 7 + "\n" for z in SOFT_SAMPLE_SIZES),
+     lambda: [v for z in SOFT_SAMPLE_SIZES for v in _soft_sample_row(z)]),
+    ("docs/carsington.md", "Every run collapses in lift {} and comes to rest. One run's toe "
+     "movement scatters by {}, {}, {} and {} % on the 4, 3, 2.5 and 2 m meshes (largest over "
+     "smallest of five runs), but the 2.5 m mesh's five runs ({} to {} m) lie apart from the 3 m "
+     "mesh's ({} to {} m) and the 2 m mesh's ({} to {} m). The five runs' means, {}, {}, {} and "
+     "{} m, are {}, {} and {} % apart from one mesh to the next (larger over smaller): the 4, 3 "
+     "and 2 m meshes' means lie within {} % of each other, inside the {} % mesh bar, and the 2.5 "
+     "m mesh's far below them", lambda: _soft_sample_toe()),
+    ("docs/carsington.md", "The crest drop is steady on each mesh (one run's scatter at most {} "
+     "%); its means, {}, {}, {} and {} m, are {}, {} and {} % apart from one mesh to the next, "
+     "within the {} % mesh bar (the step from the 3 m mesh, whose mean is the highest, close to "
+     "it), and lie {} "
+     "to {} % short of the observed {} m, within the {} % bar. The shoulder's mean upstream "
+     "movement (five-run means {}, {}, {} and {} m) agrees within {} % on the 2.5 and 2 m "
+     "meshes and is {} % apart from the 3 to the 2.5 m mesh.", lambda: _soft_sample_crest()),
+    # --- docs/hybrid.md: mesh objectivity at a glance -----------------------------------------
+    ("docs/hybrid.md", "| H2 | collapse load [kPa] | {} | {} | {} (unstructured, {} m) | met "
+     "on the five quadrilateral meshes of the mesh table but the refined structured one ({} %); "
+     "that one stops {} % below the default mesh where Newton stalls, and collapses {} % below it "
+     "with Newton's retry; triangles {} % below (under settlement control): not met |",
+     lambda: _glance_h2_collapse()),
+    ("docs/hybrid.md", "| H2 | settlement at rest since the handover [m] | {} | {} | {} "
+     "(unstructured, {} m) | not met: {} % across the types; on refinement {} % (unstructured), "
+     "{} % (structured) |", lambda: _glance_h2("final_settlement_m")),
+    ("docs/hybrid.md", "| H2 | heave at rest [m] | {} | {} | {} (unstructured, {} m) | on "
+     "refinement ({} % unstructured, {} % structured), not across the types ({} %; {} % at {} "
+     "m) |", lambda: _glance_h2("max_heave_beside_footing_m")),
+    ("docs/hybrid.md", "| H3 | active thrust, continuum [kN/m] | {} | {} | {} (grid), {} "
+     "(unstructured), {} m | met: {} % over the four, nearly all of it the refinement (the mesh "
+     "types {} % apart at either size) |", lambda: _glance_h3_thrust()),
+    ("docs/hybrid.md", "| H3 | wedge at 0.1 H [deg] | {} | {} | {} (grid), {} (unstructured), {} m "
+     "| met: each within {} deg of 45 + phi/2 = {} deg, the four within {} deg |",
+     lambda: _glance_h3_wedge()),
+    ("docs/hybrid.md", "| H3 | run-out, mean of runs [m] | {} (nine) | {} (nine) | {} (grid), {} "
+     "(unstructured), {} m, five each | within the bar on refinement of the grid ({} %; the "
+     "unstructured mesh's mean moves {} %, standard error {} %); across the types at {} m ({} "
+     "%, standard error {} %); not verified at {} m ({} %) |", lambda: _glance_h3_runout()),
     # --- docs/hybrid.md: H2 -----------------------------------------------------------------
     ("docs/hybrid.md", "B = {} m strip (half model {} m x {} m, {} Q4 / Q2 cells, {} m at the "
      "footing edge), c = {} kPa, phi = {} deg, psi = {}, gamma = {} kN/m3 (assumed), E = {} MPa, "
@@ -1364,9 +1455,11 @@ QUOTES: list[Quote] = [
     ("docs/hybrid.md", "| {} m (default) | {} | {} | {} | {} |", lambda: _h3_row("h3")),
     ("docs/hybrid.md", "| {} m | {} | {} | {} | {} |\n| unstructured",
      lambda: _h3_row("h3_size0.25")),
+    ("docs/hybrid.md", "| unstructured quads, {} m | {} | {} | {} | {} |\n| unstructured quads, "
+     "0.25 m |", lambda: _h3_row("h3_unstructured")),
     ("docs/hybrid.md",
      "| unstructured quads, {} m | {} | {} | {} | {} |\n\n- **Wedge: verified.**",
-     lambda: _h3_row("h3_unstructured")),
+     lambda: _h3_row("h3_unstructured_size0.25")),
     ("docs/hybrid.md", "from 0.5 to 0.25 m the\n  wedge moves by {} deg, and from the "
      "structured to the unstructured 0.5 m mesh by {} deg",
      lambda: [_h3_change("h3", "h3_size0.25")[0], _h3_change("h3", "h3_unstructured")[0]]),
@@ -1493,8 +1586,10 @@ QUOTES: list[Quote] = [
     *[("docs/hybrid.md", f"| {name} |" + " {} |" * 11, lambda stem=stem: _h3_row_runs(stem))
       for stem, name in (("h3", "structured, 0.5 m (default)"),
                          ("h3_unstructured", "unstructured quads, 0.5 m"))],
-    ("docs/hybrid.md", "| structured, 0.25 m | - | - | {} | - | {} | - | {} | - | - | {} | {} |",
-     lambda: _h3_row_runs("h3_size0.25", (19.98, 20.0, 20.02))),
+    *[("docs/hybrid.md", f"| {name} |" + " {} | - | {} | - | {} | - | {} | - | {} | {} | {} |",
+       lambda stem=stem: _h3_row_runs(stem, H3_REFINED_LENGTHS))
+      for stem, name in (("h3_size0.25", "structured, 0.25 m"),
+                         ("h3_unstructured_size0.25", "unstructured quads, 0.25 m"))],
     ("docs/hybrid.md", "One run's run-out scatters by {} % on the grid and {} % on the "
      "unstructured mesh (largest over smallest of nine runs), its wedge at 0.1 H by {} and {} "
      "deg: a single pair of runs can land on either side of the 10 % bar",
@@ -1509,9 +1604,21 @@ QUOTES: list[Quote] = [
      "({}): **the run-out is not verified across mesh types**, and nine runs on each cannot "
      "tell whether the mesh type alone moves it by more than the bar",
      lambda: a if (a := _h3_across()) and a[5] < 1.0 else []),
-    ("docs/hybrid.md", "On refinement the 0.25 m grid's three runs average {} m, {} % from the "
-     "0.5 m grid's nine (standard error {} %): within the bar",
-     lambda: [m[0], abs(m[1]), m[2]] if (m := _h3_refined_means()) else []),
+    ("docs/hybrid.md", "On refinement the 0.25 m grid's five runs average {} m, {} % from the "
+     "0.5 m grid's nine (standard error {} %): within the bar. The unstructured mesh's five runs "
+     "at 0.25 m average {} m, {} % beyond its nine at 0.5 m (standard error {} %: within the bar "
+     "by about half a standard error only; one run, at 20 m, moves by {} %); their standard "
+     "deviation is {} m against {} m at 0.5 m.",
+     lambda: [m[0], abs(m[1]), m[2], *m[3:]] if (m := _h3_refined_means()) and m[4] > 0.0
+     and 0.3 < (10.0 - m[4]) / m[5] < 0.7 else []),
+    ("docs/hybrid.md", "The unstructured 0.25 m mesh's five runs average {} % short of the 0.25 m "
+     "grid's five ({} against {} m; standard error {} %): within the 10 % bar, by {} standard "
+     "errors, and {} standard errors from none, so five runs on each do not tell the two types "
+     "apart. One pair of runs can still miss the bar: at 20 m the unstructured mesh runs out {} "
+     "% short of the grid ({} against {} m).", lambda: _h3_refined_across()),
+    ("docs/hybrid.md", "In the continuum the active thrust is {} kN/m on the unstructured 0.5 m "
+     "mesh (the grid's: {}), and {} and {} kN/m on the 0.25 m grid and unstructured mesh.",
+     _h3_thrusts),
     ("docs/hybrid.md", "0.5 m mesh by {} deg\n  (`test_retaining_wall_collapse_wedge_meshes`), "
      "both within one run's scatter",
      lambda: [d] if (d := _h3_change("h3", "h3_unstructured")[0]) <= _h3_scatter()[3]
@@ -2347,6 +2454,83 @@ def _toe_finer() -> list[float]:
             _soft_sizes(names)[0], *steps, sum(v > 15.0 for v in steps), len(steps), 15.0]
 
 
+def _soft_samples(size: str) -> list[dict[str, Any]]:
+    """The softening analysis's five runs on the ``size`` m mesh: their summaries, checked to
+    differ from the table's run in the yellow clay's length alone, to collapse in the same
+    lift as it and to have come to rest; a ValueError otherwise."""
+    base = _json(f"docs/summaries/carsington_softening_size{size}.json")
+    runs = [base if y == 36.0 else _json(f"docs/summaries/carsington_softening_size{size}_Y{y}"
+                                         ".json") for y in SOFT_SAMPLE_LENGTHS]
+    for y, r in zip(SOFT_SAMPLE_LENGTHS, runs, strict=True):
+        changed = {k for k, v in r["parameters"].items() if base["parameters"][k] != v}
+        if (changed - {"yellow_clay_length"} or r["parameters"]["yellow_clay_length"] != y
+                or r["construction"]["collapsing_lift"]["lift"]
+                != base["construction"]["collapsing_lift"]["lift"]
+                or r["discrete"]["stop"] != "rest"):
+            raise ValueError(f"carsington_softening_size{size}_Y{y}: not the table's run with "
+                             "another yellow-clay length")
+    return runs
+
+
+def _soft_sample_values(size: str, key: str) -> list[float]:
+    return [r["discrete"][key] for r in _soft_samples(size)]
+
+
+def _soft_sample_row(size: str) -> list[float]:
+    """A row of the five-run table: toe movement and crest drop of each run [m], then the
+    mean and standard deviation of each."""
+    toe, crest = (_soft_sample_values(size, k) for k in ("toe_runout_m", "crest_drop_m"))
+    return [*(v for pair in zip(toe, crest, strict=True) for v in pair), statistics.mean(toe),
+            statistics.stdev(toe), statistics.mean(crest), statistics.stdev(crest)]
+
+
+def _soft_sample_toe() -> list[float]:
+    """The lift every run collapses in; the toe's scatter on each mesh [%]; the ranges of the
+    2.5, 3 and 2 m meshes' toes [m]; the means [m] and their steps [%]; the 4, 3 and 2 m
+    meshes' means' spread [%] and the mesh bar [%]. [] unless the 2.5 m mesh's range lies
+    below both others (the words: apart from them), those three means lie within the mesh bar
+    of each other and the 2.5 m mesh's mean beyond it from each (not converged)."""
+    lifts = {r["construction"]["collapsing_lift"]["lift"] for z in SOFT_SAMPLE_SIZES
+             for r in _soft_samples(z)}
+    toe = {z: _soft_sample_values(z, "toe_runout_m") for z in SOFT_SAMPLE_SIZES}
+    means = [statistics.mean(toe[z]) for z in SOFT_SAMPLE_SIZES]
+    others = [statistics.mean(toe[z]) for z in ("4", "3", "2")]
+    low = statistics.mean(toe["2.5"])
+    if (len(lifts) != 1 or max(toe["2.5"]) >= min(min(toe["3"]), min(toe["2"]))
+            or 100.0 * _rel_spread(others) > MESH_BAR
+            or 100.0 * (min(others) / low - 1.0) <= MESH_BAR):
+        return []
+    return [lifts.pop(), *(100.0 * _rel_spread(toe[z]) for z in SOFT_SAMPLE_SIZES),
+            min(toe["2.5"]), max(toe["2.5"]), min(toe["3"]), max(toe["3"]), min(toe["2"]),
+            max(toe["2"]), *means, *_steps(means), 100.0 * _rel_spread(others), MESH_BAR]
+
+
+def _soft_sample_crest() -> list[float]:
+    """The crest drop's largest one-run scatter [%], its means [m] and their steps [%], the
+    mesh bar [%], the least and largest shortfall of a mean from the observed drop [%], the
+    observed drop [m] and the case's bar [%]; the shoulder's five-run means [m], their
+    change on the two finest meshes and from the 3 to the 2.5 m mesh [%]. [] unless (the
+    words) one run scatters by at most 10 %, every step is within the mesh bar, the largest
+    the 3 m mesh's (the highest mean), every mean within the bar short of the observed drop,
+    and the shoulder's means within the mesh bar on the two finest meshes, beyond it from the
+    3 to the 2.5 m mesh."""
+    crest = [_soft_sample_values(z, "crest_drop_m") for z in SOFT_SAMPLE_SIZES]
+    means = [statistics.mean(c) for c in crest]
+    observed = ref.CARSINGTON_POST_FAILURE["crest_drop"][0]
+    bar = 100.0 * carsington()["checks"]["crest_drop"]["bar"]
+    short = [100.0 * (1.0 - m / observed) for m in means]
+    shoulder = [-statistics.mean(_soft_sample_values(z, "upstream_shoulder_mean_dx_m"))
+                for z in SOFT_SAMPLE_SIZES]
+    steps, scatter = _steps(means), max(100.0 * _rel_spread(c) for c in crest)
+    if (max(steps) > MESH_BAR or not 0.0 < min(short) <= max(short) <= bar
+            or scatter > 10.0 or max(means) != means[1] or max(steps) != steps[1]
+            or _steps(shoulder)[2] > MESH_BAR or _steps(shoulder)[1] <= MESH_BAR):
+        return []
+    return [scatter, *means, *steps, MESH_BAR,
+            min(short), max(short), observed, bar, *shoulder, _steps(shoulder)[2],
+            _steps(shoulder)[1]]
+
+
 def _crest_openings() -> list[float]:
     """The widest opening at the crest's top on the eight softening meshes [mm], the surveyed
     crack's range [mm] and how many lie in it; [] unless one opens on every mesh."""
@@ -2517,6 +2701,90 @@ def _h3_row(name: str) -> list[float]:
     disc = d["discrete"]
     return [d["parameters"]["size"], disc["elements"], disc["wedge_angle_deg"], disc["runout_m"],
             -disc["farthest_element_x_m"]]
+
+
+# H3's four meshes of the glance table: the 0.5 m grid and unstructured mesh, then both at 0.25 m
+H3_GLANCE = ("h3", "h3_unstructured", "h3_size0.25", "h3_unstructured_size0.25")
+
+
+def _glance_h2_collapse() -> list[float]:
+    """The structured, default and refined meshes' collapse loads [kPa], the refined size [m],
+    the spread over the mesh table's meshes but the refined structured one [%], how far below
+    the default that one stops [%] and collapses with Newton's retry [%], the triangles' gap
+    under settlement control [%]; [] unless the spread is within the 3 % bar and the plain stop
+    and the triangles beyond it (the words)."""
+    spread = 100.0 * _rel_spread([_collapse_kpa(n) for n in H2_MESHES])
+    stop = 100.0 * (1.0 - _collapse_kpa("h2_structured_fine0.04") / _collapse_kpa("h2"))
+    hold, triangles = _h2_hold_refined(), _h2_triangle_gap()
+    if spread > 3.0 or stop <= 3.0 or not hold or not triangles:
+        return []
+    return [_collapse_kpa("h2_structured"), _collapse_kpa("h2"), _collapse_kpa("h2_fine0.04"),
+            _json("docs/summaries/h2_fine0.04.json")["parameters"]["fine"], spread, stop, hold[2],
+            triangles[1]]
+
+
+def _glance_h2(key: str) -> list[float]:
+    """An H2 measure at rest on the structured, default and refined unstructured meshes, the
+    refined size [m], then the changes [%] the words give: for the settlement, from the default
+    to the structured mesh, on refinement of the unstructured and of the structured mesh; for
+    the heave, on those refinements, then across the types at 0.08 and at 0.04 m (and that
+    size). [] unless only the heave's refinements pass the 10 % bar (the words)."""
+    v = [_h2_disc(n, key) for n in ("h2_structured", "h2", "h2_fine0.04")]
+    fine = _json("docs/summaries/h2_fine0.04.json")["parameters"]["fine"]
+    across = [100.0 * _rel_spread(v[:2]), 100.0 * _rel_spread(
+        [_h2_disc(n, key) for n in ("h2_structured_fine0.04", "h2_fine0.04")])]
+    refined = [100.0 * _rel_spread(v[1:]), 100.0 * _rel_spread(
+        [_h2_disc(n, key) for n in ("h2_structured", "h2_structured_fine0.04")])]
+    if key == "max_heave_beside_footing_m":
+        if max(refined) > 10.0 or min(across) <= 10.0:
+            return []
+        return [*v, fine, *refined, *across, fine]
+    if across[0] <= 10.0 or refined[0] <= 10.0 or refined[1] > 10.0:
+        return []
+    return [*v, fine, across[0], *refined]
+
+
+def _glance_h3_thrust() -> list[float]:
+    """H3's active thrust on its four meshes [kN/m], the refined size [m], the spread [%] and the
+    larger of the two mesh types' differences at one size [%]; [] unless within the 3 % bar
+    and the types' differences below a third of the spread (the words: nearly all of it the
+    refinement)."""
+    t = [_json(f"docs/summaries/{n}.json")["checks"]["active_thrust"]["computed"]
+         for n in H3_GLANCE]
+    size = _json("docs/summaries/h3_unstructured_size0.25.json")["parameters"]["size"]
+    spread, types = 100.0 * _rel_spread(t), 100.0 * max(_rel_spread(t[:2]), _rel_spread(t[2:]))
+    return [*t, size, spread, types] if spread <= 3.0 and types < spread / 3.0 else []
+
+
+def _glance_h3_wedge() -> list[float]:
+    """H3's wedge at 0.1 H on its four meshes [deg], the refined size [m], the bar [deg], the
+    Rankine angle [deg] and the four's range [deg]; [] unless each passed its check (within
+    the bar of 45 + phi/2)."""
+    runs = [_json(f"docs/summaries/{n}.json") for n in H3_GLANCE]
+    checks = [r["checks"]["wedge_angle"] for r in runs]
+    w = [r["discrete"]["wedge_angle_deg"] for r in runs]
+    bars = [c["bar"] * c["reference"] for c in checks]  # the check's bar is relative
+    if not all(c["passed"] and abs(c["computed"] - c["reference"]) <= b
+               for c, b in zip(checks, bars, strict=True)):
+        return []
+    return [*w, runs[2]["parameters"]["size"], bars[0], checks[0]["reference"], max(w) - min(w)]
+
+
+def _glance_h3_runout() -> list[float]:
+    """H3's mean run-outs [m] on the 0.5 m grid and unstructured mesh (nine runs each) and on
+    the 0.25 m ones (five each), the refined size [m]; the grid's change on refinement [%],
+    the unstructured mesh's and its standard error [%]; the shortfall across the types at
+    0.25 m and its standard error [%]; at 0.5 m [%] (the sizes [m] between)."""
+    means = [statistics.mean(_h3_runouts("h3")), statistics.mean(_h3_runouts("h3_unstructured")),
+             *(statistics.mean(_h3_runouts(n, H3_REFINED_LENGTHS)) for n in H3_GLANCE[2:])]
+    refined, across = _h3_refined_means(), _h3_refined_across()
+    coarse = _h3_across()
+    if not (refined and across and coarse):
+        return []
+    fine, default = (_json(f"docs/summaries/{n}.json")["parameters"]["size"]
+                     for n in ("h3_size0.25", "h3"))
+    return [*means, fine, abs(refined[1]), refined[4], refined[5], fine, across[0], across[3],
+            default, coarse[0]]
 
 
 def _h3_change(coarse: str, fine: str) -> list[float]:
