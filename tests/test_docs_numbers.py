@@ -645,14 +645,15 @@ def _r1_grain_growth(tail: str, a: str) -> list[float]:
 
 def _r1_fine(a: str) -> dict[str, str]:
     """R1's runs on grains finer than L0 / 30 at ``a`` by name ("40" the L0 / 40 packing as
-    given, "40-" and "40+" with L0 0.1 % shorter and longer, "50", "60"), those committed;
-    ValueError unless each differs from the L0 / 20 run in nx (and the L0 variants from the
-    L0 / 40 run in their length) alone."""
+    given, "40-" and "40+" with L0 0.1 % shorter and longer, "50", "60", "60-", "60+"), those
+    committed; ValueError unless each differs from the L0 / 20 run in nx (and the L0 variants
+    from the run of their grain size in their length) alone."""
     runs = {"30": f"a{a}_nx30", "40": f"a{a}_nx40", "40-": f"a{a}_nx40_L0.1998",
-            "40+": f"a{a}_nx40_L0.2002", "50": f"a{a}_nx50", "60": f"a{a}_nx60"}
+            "40+": f"a{a}_nx40_L0.2002", "50": f"a{a}_nx50", "60": f"a{a}_nx60",
+            "60-": f"a{a}_nx60_L0.1998", "60+": f"a{a}_nx60_L0.2002"}
     runs = {k: v for k, v in runs.items() if (ROOT / f"docs/summaries/r1_{v}.json").exists()}
     for k, run in runs.items():
-        same = (_r1_differ_only_in(run, f"a{a}_nx40", "length") if k in ("40-", "40+")
+        same = (_r1_differ_only_in(run, f"a{a}_nx{k[:2]}", "length") if k[-1] in "-+"
                 else _r1_differ_only_in(run, f"a{a}", "nx"))
         if not same:
             raise ValueError(f"r1_{run} differs from its base in more than the run's name says")
@@ -675,12 +676,13 @@ def _r1_fine_row(a: str, keys: tuple[str, ...]) -> list[float]:
 
 
 def _r1_fine_converged() -> list[float]:
-    """At a = 0.5 and 1: L_inf's change from L0 / 30 to L0 / 60 [%], its change from L0 / 10 to
-    L0 / 20 [%], the three L0 / 40 packings' scatter (largest over smallest) [%], their mean
-    [m] and its difference from the L0 / 60 run [%], each at a = 0.5 then 1; [] unless both
-    changes to L0 / 60 are within the 10 % bar and every run on finer grains ends within the
-    L0 / 40 packings' range (the words: the run-out stops growing beyond L0 / 40, within one
-    packing's scatter)."""
+    """At a = 0.5 and 1: L_inf's change from L0 / 30 to L0 / 60 (the L0 = 0.2 m run) [%], its
+    change from L0 / 10 to L0 / 20 [%], the three L0 / 40 packings' scatter (largest over
+    smallest) [%], their mean [m] and its difference from the L0 / 60 run [%], each at a = 0.5
+    then 1; [] unless every change from L0 / 30 to a run at L0 / 60 is within the 10 % bar and,
+    at a = 0.5, the runs on finer grains end within the L0 / 40 packings' range (the words: the
+    run-out stops growing beyond L0 / 40, within one packing's scatter; at a = 1 the
+    packings' means: :func:`_r1_fine_packings`)."""
     out: dict[str, list[float]] = {}
     for a in ("0.5", "1"):
         forty = [_r1_fine_runout(a, k) for k in ("40-", "40", "40+")]
@@ -689,10 +691,51 @@ def _r1_fine_converged() -> list[float]:
         out[a] = [100.0 * abs(l60 / _r1_fine_runout(a, "30") - 1.0),
                   _r1_grain_growth("", a)[0],
                   100.0 * _rel_spread(forty), mean, 100.0 * abs(mean / l60 - 1.0)]
-        finer = [_r1_fine_runout(a, k) for k in _r1_fine(a) if k in ("50", "60")]
-        if out[a][0] > 10.0 or not all(min(forty) <= v <= max(forty) for v in finer):
+        if max(100.0 * _rel_spread([_r1_fine_runout(a, "30"), _r1_fine_runout(a, k)])
+               for k in _r1_fine(a) if k[:2] == "60") > 10.0:
             return []
+    finer = [_r1_fine_runout("0.5", k) for k in ("50", "60")]
+    forty = [_r1_fine_runout("0.5", k) for k in ("40-", "40", "40+")]
+    if not all(min(forty) <= v <= max(forty) for v in finer):
+        return []
     return [out[a][i] for i in range(5) for a in ("0.5", "1")]
+
+
+def _r1_fine_packings() -> list[float]:
+    """At a = 1: the three L0 / 60 packings' mean L_inf [m], its difference from the three
+    L0 / 40 packings' mean [%], that mean [m] and the L0 / 60 packings' scatter [%]; [] unless
+    the difference is within the L0 / 40 packings' scatter (the words: the run-out stops
+    growing within one packing's scatter)."""
+    sixty = [_r1_fine_runout("1", k) for k in ("60-", "60", "60+")]
+    forty = [_r1_fine_runout("1", k) for k in ("40-", "40", "40+")]
+    change = pct(statistics.mean(sixty), statistics.mean(forty))
+    if abs(change) > 100.0 * _rel_spread(forty):
+        return []
+    return [statistics.mean(sixty), change, statistics.mean(forty), 100.0 * _rel_spread(sixty)]
+
+
+def _r1_fine_height_trend() -> list[float]:
+    """At a = 1: the final height's fall from the three L0 / 40 packings' mean to the three
+    L0 / 60 packings' [%], the two means, the L0 / 60 and the L0 / 40 packings' ranges, the
+    L0 / 60 packings' scatter [%]; [] unless (the words) at both aspect ratios every L0 / 60
+    run lies below every L0 / 40 packing, at a = 1 the L0 / 40 mean is not below the L0 / 30
+    run, and the fall is within the 10 % bar and no larger than the L0 / 60 packings' scatter
+    (rounded)."""
+    h40 = [_r1_fine_deposit("1", k)["height_over_H0"] for k in ("40-", "40", "40+")]
+    h60 = [_r1_fine_deposit("1", k)["height_over_H0"] for k in ("60-", "60", "60+")]
+    fall = -pct(statistics.mean(h60), statistics.mean(h40))
+    scatter = 100.0 * _rel_spread(h60)
+    for a in ("0.5", "1"):
+        forty = [_r1_fine_deposit(a, k)["height_over_H0"] for k in ("40-", "40", "40+")]
+        sixty = [_r1_fine_deposit(a, k)["height_over_H0"] for k in _r1_fine(a) if k[:2] == "60"]
+        if max(sixty) >= min(forty):
+            return []
+    if statistics.mean(h40) < _r1_fine_deposit("1", "30")["height_over_H0"]:
+        return []
+    if not 0.0 < fall <= 10.0 or round(fall, 1) > round(scatter, 1):
+        return []
+    return [fall, statistics.mean(h40), statistics.mean(h60), min(h60), max(h60), min(h40),
+            max(h40), scatter]
 
 
 def _r1_fine_beyond() -> list[float]:
@@ -707,24 +750,25 @@ def _r1_fine_beyond() -> list[float]:
     L0 = r1("a0.5")["parameters"]["length"]
     bui_L = (1.0 + bui) * L0
     rods = r1("a1")["deposit"]["references"]["rods2015_runout"]
+    sixty = [_r1_fine_deposit("1", k)["normalised_runout"] for k in ("60-", "60", "60+")]
     gaps = [pct(_r1_fine_deposit("1", k)["normalised_runout"], rods)
-            for k in ("40-", "40", "40+", "60")]
+            for k in ("40-", "40", "40+", "60-", "60", "60+")]
     far = pct(d5["runout_m"], bui_L)
     if min(gaps) <= 15.0 or far <= 15.0:
         return []
-    return [d5["normalised_runout"], bui, d5["runout_m"], bui_L, far,
-            _r1_fine_deposit("1", "60")["normalised_runout"], gaps[3], rods,
-            min(gaps[:3]), max(gaps[:3])]
+    return [d5["normalised_runout"], bui, d5["runout_m"], bui_L, far, min(sixty), max(sixty),
+            min(gaps[3:]), max(gaps[3:]), rods, min(gaps[:3]), max(gaps[:3])]
 
 
 def _r1_fine_h(a: str) -> list[float]:
-    """H_inf / H0 of the three L0 / 40 packings and of L0 / 60 at ``a``."""
-    return [_r1_fine_deposit(a, k)["height_over_H0"] for k in ("40-", "40", "40+", "60")]
+    """H_inf / H0 of the L0 / 40 and L0 / 60 runs at ``a`` (the packings committed)."""
+    return [_r1_fine_deposit(a, k)["height_over_H0"] for k in _r1_fine(a)
+            if k[:2] in ("40", "60")]
 
 
 def _r1_fine_heights() -> list[float]:
-    """Final heights on finer grains: a = 1, the least and most of L0 / 40 (three packings)
-    and L0 / 60 and the rods'; a = 0.5 at L0 / 60 and the rods'; [] unless a = 1's are all
+    """Final heights on finer grains: a = 1, the least and most of L0 / 40 and L0 / 60 (three
+    packings each) and the rods'; a = 0.5 at L0 / 60 and the rods'; [] unless a = 1's are all
     within 15 % of the rods (the words)."""
     h = _r1_fine_h("1")
     rods = r1("a1")["deposit"]["references"]["rods2015_height"]
@@ -801,16 +845,18 @@ def _r1_rough_vs_rods() -> list[float]:
     """a = 1 on grains of L0 / 40: the rough floor's (L_inf - L0) / L0, its shortfall from the
     rods [%] and the rods', the flat floor's least and most over three packings and their
     excess [%]; then on grains of L0 / 60 the rough floor's, its shortfall, the flat floor's
-    and its excess; [] unless the rods lie between the floors on both grain sizes."""
+    least and most over three packings and their excess; [] unless the rods lie between the
+    floors on both grain sizes."""
     rods = r1("a1")["deposit"]["references"]["rods2015_runout"]
     rough = r1("a1_nx40_rough")["deposit"]["normalised_runout"]
     flat = [_r1_fine_deposit("1", k)["normalised_runout"] for k in ("40-", "40", "40+")]
     rough60 = r1("a1_nx60_rough")["deposit"]["normalised_runout"]
-    flat60 = _r1_fine_deposit("1", "60")["normalised_runout"]
-    if not (rough < rods < min(flat) and rough60 < rods < flat60):
+    flat60 = [_r1_fine_deposit("1", k)["normalised_runout"] for k in ("60-", "60", "60+")]
+    if not (rough < rods < min(flat) and rough60 < rods < min(flat60)):
         return []
     return [rough, -pct(rough, rods), rods, min(flat), max(flat), pct(min(flat), rods),
-            pct(max(flat), rods), rough60, -pct(rough60, rods), flat60, pct(flat60, rods)]
+            pct(max(flat), rods), rough60, -pct(rough60, rods), min(flat60), max(flat60),
+            pct(min(flat60), rods), pct(max(flat60), rods)]
 
 
 def _restitution(zeta: float) -> float:
@@ -1742,8 +1788,8 @@ QUOTES: list[Quote] = [
       for a in ("0.5", "1", "2")],
     ("docs/hybrid.md", "| 0.5 | {}, {} | {}, {}; {}, {}; {}, {} | {}, {} | {}, {} |",
      lambda: _r1_fine_row("0.5", ("30", "40-", "40", "40+", "50", "60"))),
-    ("docs/hybrid.md", "| 1 | {}, {} | {}, {}; {}, {}; {}, {} | - | {}, {} |",
-     lambda: _r1_fine_row("1", ("30", "40-", "40", "40+", "60"))),
+    ("docs/hybrid.md", "| 1 | {}, {} | {}, {}; {}, {}; {}, {} | - | {}, {}; {}, {}; {}, {} |",
+     lambda: _r1_fine_row("1", ("30", "40-", "40", "40+", "60-", "60", "60+"))),
     ("docs/hybrid.md", "the rough floor's run-out grows on: L_inf is {} and {} m at L0 / 40 and 60 "
      "at a = 0.5 ({} and {} % beyond the size before), {} and {} m at a = 1 ({} and {} %); its "
      "teeth are half a grain high",
@@ -1756,9 +1802,10 @@ QUOTES: list[Quote] = [
      and v[0] < c[4] and _r1_rough_growth() else []),
     ("docs/hybrid.md", "at a = 1 the rough floor's (L_inf - L0) / L0 on grains of L0 / 40 is {}, "
      "{} % short of the rods' {}, the flat floor's {} to {} on the same grains (three packings) "
-     "{} to {} % beyond, and on grains of L0 / 60 {} on the rough floor ({} % short) and {} on "
-     "the flat one ({} % beyond). So on the grains where the flat floor's run-out stops growing "
-     "the rods at a = 1 still lie between the two floors", _r1_rough_vs_rods),
+     "{} to {} % beyond, and on grains of L0 / 60 {} on the rough floor ({} % short) and {} to {} "
+     "on the flat one (three packings, {} to {} % beyond). So on the grains where the flat "
+     "floor's run-out stops growing the rods at a = 1 still lie between the two floors",
+     _r1_rough_vs_rods),
     ("docs/hybrid.md", "and at a = 0.5 the rough floor ends within {} % of the measured deposit "
      "where the flat one overshoots it by a third",
      lambda: [v[0]] if (v := _r1_rough_vs_bui()) else []),
@@ -1780,20 +1827,27 @@ QUOTES: list[Quote] = [
      and 0.0 < pct(_r1_fine_runout("2", "40"), _r1_fine_runout("2", "30")) else []),
     ("docs/hybrid.md", "At a = 0.5 and 1 the run-out stops growing beyond L0 / 40, within one "
      "packing's scatter: the three packings at L0 / 40 scatter by {} and {} % (largest over "
-     "smallest), and the runs on finer grains end within their range (their mean L_inf, {} and "
-     "{} m, is {} and {} % from the run at L0 / 60). From L0 / 30 to L0 / 60 L_inf moves by {} "
-     "and {} %, within the 10 % bar (from L0 / 10 to L0 / 20 by {} and {} %)",
-     lambda: [c[i] for i in (4, 5, 6, 7, 8, 9, 0, 1, 2, 3)] if (c := _r1_fine_converged())
-     else []),
-    ("docs/hybrid.md", "The final height is not shown converged: at L0 / 60 it is lower than in "
-     "every packing at L0 / 40, at a = 1 by {} to {} % ({} against {} to {})",
-     lambda: [-pct(h[3], min(h[:3])), -pct(h[3], max(h[:3])), h[3], min(h[:3]), max(h[:3])]
-     if (h := _r1_fine_h("1")) and all(_r1_fine_h(a)[3] < min(_r1_fine_h(a)[:3])
-                                        for a in ("0.5", "1")) else []),
+     "smallest); at a = 0.5 the runs on finer grains end within their range (the L0 / 40 "
+     "packings' mean L_inf, {} m, is {} % from the run at L0 / 60), and at a = 1 the three "
+     "packings at L0 / 60 average {} m, {} % beyond the three at L0 / 40 ({} m), and scatter "
+     "by {} %. From L0 / 30 to L0 / 60 L_inf moves by {} % at a = 0.5 and by {} to {} % at "
+     "a = 1 (three packings), within the 10 % bar (from L0 / 10 to L0 / 20 by {} and {} %)",
+     lambda: [c[4], c[5], c[6], c[8], *p, c[0], min(m), max(m), c[2], c[3]]
+     if (c := _r1_fine_converged()) and (p := _r1_fine_packings()) and p[1] > 0.0
+     and (m := [pct(_r1_fine_runout("1", k), _r1_fine_runout("1", "30"))
+                for k in ("60-", "60", "60+")]) and min(m) > 0.0 else []),
+    ("docs/hybrid.md", "The final height falls from L0 / 40 to L0 / 60: at L0 / 60 it is lower "
+     "than in every packing at L0 / 40 at both aspect ratios; at a = 1, where it did not fall "
+     "from L0 / 30 to L0 / 40, the three packings' mean falls by {} % ({} to {}), every packing "
+     "at L0 / 60 ({} to {}) below every one at L0 / 40 ({} to {}). The step is within the 10 "
+     "% bar, and as large as the L0 / 60 packings' own scatter in height ({} %), but it is "
+     "one step with all three packings on the same side, so the final height is not shown "
+     "converged.",
+     _r1_fine_height_trend),
     ("docs/hybrid.md", "The run-out it stops at lies **beyond the experiments**: at L0 / 60 "
-     "(L_inf - L0) / L0 is {} at a = 0.5, against {} from Bui et "
-     "al.'s measured surface (L_inf {} against {} m, {} % further), and {} at a = 1, {} % beyond "
-     "the rods' {} (the three packings at L0 / 40: {} to {} % beyond)", _r1_fine_beyond),
+     "(L_inf - L0) / L0 is {} at a = 0.5, against {} from Bui et al.'s measured surface (L_inf {} "
+     "against {} m, {} % further), and {} to {} at a = 1 (three packings), {} to {} % beyond the "
+     "rods' {} (the three packings at L0 / 40: {} to {} % beyond)", _r1_fine_beyond),
     ("docs/hybrid.md", "The final height at a = 1 is within 15 % of the rods' ({} to {} against "
      "{}); at a = 0.5 it is {} at L0 / 60 (the rods: {})", _r1_fine_heights),
     ("docs/hybrid.md", "at a = 1 the table's grains of L0 / 20 came within it ({} % beyond the "
