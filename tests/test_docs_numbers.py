@@ -400,15 +400,12 @@ def _h3_across() -> list[float]:
     standard error of that shortfall [%] (first order, from the runs' standard deviations),
     the shortfall in standard errors from none and from the 10 % bar; [] unless it lies
     beyond the bar and more than three standard errors from none (the words)."""
-    s, u = _h3_runouts("h3"), _h3_runouts("h3_unstructured")
-    ms, mu = statistics.mean(s), statistics.mean(u)
-    ratio = mu / ms
-    se = 100.0 * ratio * math.hypot(statistics.stdev(s) / ms / math.sqrt(len(s)),
-                                    statistics.stdev(u) / mu / math.sqrt(len(u)))
-    short = 100.0 * (1.0 - ratio)
+    s = _h3_runouts("h3")
+    mu, change, se = _h3_mean_change(s, _h3_runouts("h3_unstructured"))
+    short = -change
     if not (short > 10.0 and short / se > 3.0):
         return []
-    return [short, mu, ms, se, short / se, (short - 10.0) / se]
+    return [short, mu, statistics.mean(s), se, short / se, (short - 10.0) / se]
 
 
 def _h3_mean_change(coarse: list[float], fine: list[float]) -> list[float]:
@@ -458,10 +455,15 @@ def _h3_refined_across() -> list[float]:
             pair_short, *pair]
 
 
+def _h3_thrust(name: str) -> float:
+    """An H3 run's active thrust in the continuum [kN/m]."""
+    return _json(f"docs/summaries/{name}.json")["checks"]["active_thrust"]["computed"]
+
+
 def _h3_thrusts() -> list[float]:
     """H3's active thrust [kN/m] on the unstructured 0.5 m mesh, the grid, the 0.25 m grid and
     the 0.25 m unstructured mesh."""
-    return [_json(f"docs/summaries/{n}.json")["checks"]["active_thrust"]["computed"]
+    return [_h3_thrust(n)
             for n in ("h3_unstructured", "h3", "h3_size0.25", "h3_unstructured_size0.25")]
 
 
@@ -2803,8 +2805,7 @@ def _glance_h3_thrust() -> list[float]:
     larger of the two mesh types' differences at one size [%]; [] unless within the 3 % bar
     and the types' differences below a third of the spread (the words: nearly all of it the
     refinement)."""
-    t = [_json(f"docs/summaries/{n}.json")["checks"]["active_thrust"]["computed"]
-         for n in H3_GLANCE]
+    t = [_h3_thrust(n) for n in H3_GLANCE]
     size = _json("docs/summaries/h3_unstructured_size0.25.json")["parameters"]["size"]
     spread, types = 100.0 * _rel_spread(t), 100.0 * max(_rel_spread(t[:2]), _rel_spread(t[2:]))
     return [*t, size, spread, types] if spread <= 3.0 and types < spread / 3.0 else []
