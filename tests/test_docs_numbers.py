@@ -356,13 +356,14 @@ def _calibration_check() -> list[float]:
 
 #: H3's backfill lengths [m] of the runs on the 0.5 m meshes (``make docs``: H3_LENGTHS and 20)
 H3_LENGTHS = (19.96, 19.97, 19.98, 19.99, 20.0, 20.01, 20.02, 20.03, 20.04)
-#: and on the 0.25 m meshes, structured and unstructured (``make docs``: docs-h3-d10)
+#: and on the 0.25 m meshes, structured and unstructured, and the 0.125 m grid (``make docs``:
+#: docs-h3-d10)
 H3_REFINED_LENGTHS = (19.96, 19.98, 20.0, 20.02, 20.04)
 
 
 def _h3_runs(stem: str, lengths: tuple[float, ...] = H3_LENGTHS) -> list[dict[str, Any]]:
     """H3's discrete summaries of one mesh (``stem``: "h3", "h3_unstructured", "h3_size0.25",
-    "h3_unstructured_size0.25")
+    "h3_unstructured_size0.25", "h3_size0.125")
     with the backfill ``lengths`` long [m], the 20 m run the mesh's own summary; ValueError
     unless each run differs from that one in its length alone, the one named."""
     base = _json(f"docs/summaries/{stem}.json")["parameters"]
@@ -1301,15 +1302,18 @@ QUOTES: list[Quote] = [
      "refinement ({} % unstructured, {} % structured), not across the types ({} %; {} % at {} "
      "m) |", lambda: _glance_h2("max_heave_beside_footing_m")),
     ("docs/hybrid.md", "| H3 | active thrust, continuum [kN/m] | {} | {} | {} (grid), {} "
-     "(unstructured), {} m | met: {} % over the four, nearly all of it the refinement (the mesh "
-     "types {} % apart at either size) |", lambda: _glance_h3_thrust()),
-    ("docs/hybrid.md", "| H3 | wedge at 0.1 H [deg] | {} | {} | {} (grid), {} (unstructured), {} m "
-     "| met: each within {} deg of 45 + phi/2 = {} deg, the four within {} deg |",
-     lambda: _glance_h3_wedge()),
+     "(unstructured), {} m; {} (grid, {} m) | not met on refinement: {} % over the three "
+     "grids, still falling ({} % then {} %, each step within the bar); the mesh types at most {} "
+     "% apart at one size; {} % above Rankine's {} on the finest (exact for a smooth base "
+     "only: C8) |", lambda: _glance_h3_thrust()),
+    ("docs/hybrid.md", "| H3 | wedge at 0.1 H [deg] | {} | {} | {} (grid), {} (unstructured), {} "
+     "m; {} (grid, {} m) | met: each within {} deg of 45 + phi/2 = {} deg, the five meshes "
+     "within {} deg |", lambda: _glance_h3_wedge()),
     ("docs/hybrid.md", "| H3 | run-out, mean of runs [m] | {} (nine) | {} (nine) | {} (grid), {} "
-     "(unstructured), {} m, five each | within the bar on refinement of the grid ({} %; the "
-     "unstructured mesh's mean moves {} %, standard error {} %); across the types at {} m ({} "
-     "%, standard error {} %); not verified at {} m ({} %) |", lambda: _glance_h3_runout()),
+     "(unstructured), {} m, five each; {} (grid, {} m, five) | within the bar on refinement of "
+     "the grid ({} % to {} m, {} % on to {} m; the unstructured mesh's mean moves {} %, "
+     "standard error {} %); across the types at {} m ({} %, standard error {} %); not verified "
+     "at {} m ({} %) |", lambda: _glance_h3_runout()),
     # --- docs/hybrid.md: H2 -----------------------------------------------------------------
     ("docs/hybrid.md", "B = {} m strip (half model {} m x {} m, {} Q4 / Q2 cells, {} m at the "
      "footing edge), c = {} kPa, phi = {} deg, psi = {}, gamma = {} kN/m3 (assumed), E = {} MPa, "
@@ -1501,8 +1505,10 @@ QUOTES: list[Quote] = [
     ("docs/hybrid.md", "| {} m | {} | {} | {} | {} |\n| 0.5 m (default)",
      lambda: _h3_row("h3_size1.0")),
     ("docs/hybrid.md", "| {} m (default) | {} | {} | {} | {} |", lambda: _h3_row("h3")),
-    ("docs/hybrid.md", "| {} m | {} | {} | {} | {} |\n| unstructured",
+    ("docs/hybrid.md", "| {} m | {} | {} | {} | {} |\n| 0.125 m |",
      lambda: _h3_row("h3_size0.25")),
+    ("docs/hybrid.md", "| {} m | {} | {} | {} | {} |\n| unstructured",
+     lambda: _h3_row(H3_FINEST)),
     ("docs/hybrid.md", "| unstructured quads, {} m | {} | {} | {} | {} |\n| unstructured quads, "
      "0.25 m |", lambda: _h3_row("h3_unstructured")),
     ("docs/hybrid.md",
@@ -1637,7 +1643,20 @@ QUOTES: list[Quote] = [
     *[("docs/hybrid.md", f"| {name} |" + " {} | - | {} | - | {} | - | {} | - | {} | {} | {} |",
        lambda stem=stem: _h3_row_runs(stem, H3_REFINED_LENGTHS))
       for stem, name in (("h3_size0.25", "structured, 0.25 m"),
-                         ("h3_unstructured_size0.25", "unstructured quads, 0.25 m"))],
+                         ("h3_unstructured_size0.25", "unstructured quads, 0.25 m"),
+                         ("h3_size0.125", "structured, 0.125 m"))],
+    ("docs/hybrid.md", "- **Refined once more, the grid's mean run-out moves by {} %.** On the "
+     "grid of 0.125 m (eighty elements over the wall's height) the five runs (the same backfill "
+     "lengths) average {} m, {} % from the 0.25 m grid's five (standard error {} %: less than "
+     "one standard error from no change) and {} % from the 0.5 m grid's nine: on three grids "
+     "the mean run-out stays within the 10 % bar. "
+     "One run's run-out scatters by {} % (largest over smallest of the five); the wedge at "
+     "0.1 H lies between {} and {} deg.", lambda: _h3_finest()),
+    ("docs/hybrid.md", "The active thrust in the continuum, {} kN/m on the 0.125 m grid, falls by "
+     "{} % from the 0.25 m grid's, after {} % from the 0.5 m one: each step within the 3 % bar "
+     "of a limit load, but {} % over the three grids and still falling, so the thrust is not "
+     "shown converged; on the finest grid it lies {} % above Rankine's {} kN/m (exact for a "
+     "smooth base only: C8).", lambda: _h3_finest_thrust()),
     ("docs/hybrid.md", "One run's run-out scatters by {} % on the grid and {} % on the "
      "unstructured mesh (largest over smallest of nine runs), its wedge at 0.1 H by {} and {} "
      "deg: a single pair of runs can land on either side of the 10 % bar",
@@ -2761,6 +2780,8 @@ def _h3_row(name: str) -> list[float]:
 
 # H3's four meshes of the glance table: the 0.5 m grid and unstructured mesh, then both at 0.25 m
 H3_GLANCE = ("h3", "h3_unstructured", "h3_size0.25", "h3_unstructured_size0.25")
+#: and the grid refined once more, to 0.125 m (five runs, H3_REFINED_LENGTHS)
+H3_FINEST = "h3_size0.125"
 
 
 def _glance_h2_collapse() -> list[float]:
@@ -2801,45 +2822,87 @@ def _glance_h2(key: str) -> list[float]:
 
 
 def _glance_h3_thrust() -> list[float]:
-    """H3's active thrust on its four meshes [kN/m], the refined size [m], the spread [%] and the
-    larger of the two mesh types' differences at one size [%]; [] unless within the 3 % bar
-    and the types' differences below a third of the spread (the words: nearly all of it the
-    refinement)."""
+    """H3's active thrust on its four meshes [kN/m], the refined size [m], the 0.125 m grid's
+    thrust and size, the spread over the three grids [%], the grid's fall on each refinement
+    [%], the larger of the two mesh types' differences at one size [%], the finest grid's
+    excess over Rankine's [%] and Rankine's thrust [kN/m]; [] unless the types are within the
+    3 % bar and the three grids as ``_h3_finest_thrust`` asks (the words: not met, still
+    falling)."""
     t = [_h3_thrust(n) for n in H3_GLANCE]
-    size = _json("docs/summaries/h3_unstructured_size0.25.json")["parameters"]["size"]
-    spread, types = 100.0 * _rel_spread(t), 100.0 * max(_rel_spread(t[:2]), _rel_spread(t[2:]))
-    return [*t, size, spread, types] if spread <= 3.0 and types < spread / 3.0 else []
+    sizes = [_json(f"docs/summaries/{n}.json")["parameters"]["size"]
+             for n in ("h3_unstructured_size0.25", H3_FINEST)]
+    types = 100.0 * max(_rel_spread(t[:2]), _rel_spread(t[2:]))
+    if types > 3.0 or not (g := _h3_finest_thrust()):
+        return []
+    finest, fall_fine, fall_mid, spread, excess, rankine = g
+    return [*t, sizes[0], finest, sizes[1], spread, fall_mid, fall_fine, types, excess, rankine]
 
 
 def _glance_h3_wedge() -> list[float]:
-    """H3's wedge at 0.1 H on its four meshes [deg], the refined size [m], the bar [deg], the
-    Rankine angle [deg] and the four's range [deg]; [] unless each passed its check (within
-    the bar of 45 + phi/2)."""
-    runs = [_json(f"docs/summaries/{n}.json") for n in H3_GLANCE]
+    """H3's wedge at 0.1 H on its four meshes and the 0.125 m grid [deg] (the sizes [m]
+    between), the bar [deg], the Rankine angle [deg] and the five's range [deg]; [] unless each
+    passed its check (within the bar of 45 + phi/2)."""
+    runs = [_json(f"docs/summaries/{n}.json") for n in (*H3_GLANCE, H3_FINEST)]
     checks = [r["checks"]["wedge_angle"] for r in runs]
     w = [r["discrete"]["wedge_angle_deg"] for r in runs]
     bars = [c["bar"] * c["reference"] for c in checks]  # the check's bar is relative
     if not all(c["passed"] and abs(c["computed"] - c["reference"]) <= b
                for c, b in zip(checks, bars, strict=True)):
         return []
-    return [*w, runs[2]["parameters"]["size"], bars[0], checks[0]["reference"], max(w) - min(w)]
+    return [*w[:4], runs[2]["parameters"]["size"], w[4], runs[4]["parameters"]["size"], bars[0],
+            checks[0]["reference"], max(w) - min(w)]
 
 
 def _glance_h3_runout() -> list[float]:
     """H3's mean run-outs [m] on the 0.5 m grid and unstructured mesh (nine runs each) and on
-    the 0.25 m ones (five each), the refined size [m]; the grid's change on refinement [%],
-    the unstructured mesh's and its standard error [%]; the shortfall across the types at
-    0.25 m and its standard error [%]; at 0.5 m [%] (the sizes [m] between)."""
+    the 0.25 m ones (five each), the refined size [m], the 0.125 m grid's (five) and its size;
+    the grid's change on each refinement [%] (the sizes [m] after each), the unstructured
+    mesh's and its standard error [%]; the shortfall across the types at 0.25 m and its
+    standard error [%]; at 0.5 m [%] (the sizes [m] between)."""
     means = [statistics.mean(_h3_runouts("h3")), statistics.mean(_h3_runouts("h3_unstructured")),
              *(statistics.mean(_h3_runouts(n, H3_REFINED_LENGTHS)) for n in H3_GLANCE[2:])]
-    refined, across = _h3_refined_means(), _h3_refined_across()
+    refined, across, finest = _h3_refined_means(), _h3_refined_across(), _h3_finest()
     coarse = _h3_across()
-    if not (refined and across and coarse):
+    if not (refined and across and coarse and finest):
         return []
-    fine, default = (_json(f"docs/summaries/{n}.json")["parameters"]["size"]
-                     for n in ("h3_size0.25", "h3"))
-    return [*means, fine, abs(refined[1]), refined[4], refined[5], fine, across[0], across[3],
-            default, coarse[0]]
+    fine, default, smallest = (_json(f"docs/summaries/{n}.json")["parameters"]["size"]
+                               for n in ("h3_size0.25", "h3", H3_FINEST))
+    return [*means, fine, finest[1], smallest, abs(refined[1]), fine, abs(finest[2]), smallest,
+            abs(refined[4]), refined[5], fine, across[0], across[3], default, coarse[0]]
+
+
+def _h3_finest() -> list[float]:
+    """The 0.125 m grid (five runs): the |change| of its mean run-out from the 0.25 m grid's
+    five [%], its mean [m], that change again [%] and its standard error [%], the |change| from
+    the 0.5 m grid's nine [%]; one run's scatter [%] (largest over smallest); its wedges at
+    0.1 H, least and largest [deg]. [] unless the three grids' means lie within the 10 % bar
+    of each other and the last change is less than its standard error (the words)."""
+    runs = _h3_runs(H3_FINEST, H3_REFINED_LENGTHS)
+    fine = [d["runout_m"] for d in runs]
+    mid = _h3_runouts("h3_size0.25", H3_REFINED_LENGTHS)
+    mean, change, se = _h3_mean_change(mid, fine)
+    coarse = _h3_runouts("h3")
+    from_coarse = pct(mean, statistics.mean(coarse))
+    means = [statistics.mean(r) for r in (coarse, mid, fine)]
+    wedges = [d["wedge_angle_deg"] for d in runs]
+    if not (100.0 * _rel_spread(means) <= 10.0 and abs(change) < se):
+        return []
+    return [abs(change), mean, abs(change), se, abs(from_coarse), 100.0 * _rel_spread(fine),
+            min(wedges), max(wedges)]
+
+
+def _h3_finest_thrust() -> list[float]:
+    """The 0.125 m grid's active thrust [kN/m], its fall from the 0.25 m grid's and that one's
+    from the 0.5 m grid's [%], the spread over the three grids [%], the finest's excess over
+    Rankine's [%] and Rankine's thrust [kN/m]; [] unless each step falls within the 3 % bar,
+    the spread lies beyond it and the finest lies above Rankine's (the words)."""
+    grids = [_h3_thrust(n) for n in ("h3", "h3_size0.25", H3_FINEST)]
+    falls = [-pct(grids[2], grids[1]), -pct(grids[1], grids[0])]
+    spread = 100.0 * _rel_spread(grids)
+    rankine = h3()["checks"]["active_thrust"]["reference"]
+    if not (0.0 < min(falls) and max(falls) <= 3.0 < spread and grids[2] > rankine):
+        return []
+    return [grids[2], *falls, spread, pct(grids[2], rankine), rankine]
 
 
 def _h3_change(coarse: str, fine: str) -> list[float]:
