@@ -359,6 +359,8 @@ H3_LENGTHS = (19.96, 19.97, 19.98, 19.99, 20.0, 20.01, 20.02, 20.03, 20.04)
 #: and on the 0.25 m meshes, structured and unstructured, and the 0.125 m grid (``make docs``:
 #: docs-h3-d10)
 H3_REFINED_LENGTHS = (19.96, 19.98, 20.0, 20.02, 20.04)
+#: the grid refined once more, to 0.125 m (five runs, H3_REFINED_LENGTHS)
+H3_FINEST = "h3_size0.125"
 
 
 def _h3_runs(stem: str, lengths: tuple[float, ...] = H3_LENGTHS) -> list[dict[str, Any]]:
@@ -1644,7 +1646,7 @@ QUOTES: list[Quote] = [
        lambda stem=stem: _h3_row_runs(stem, H3_REFINED_LENGTHS))
       for stem, name in (("h3_size0.25", "structured, 0.25 m"),
                          ("h3_unstructured_size0.25", "unstructured quads, 0.25 m"),
-                         ("h3_size0.125", "structured, 0.125 m"))],
+                         (H3_FINEST, "structured, 0.125 m"))],
     ("docs/hybrid.md", "- **Refined once more, the grid's mean run-out moves by {} %.** On the "
      "grid of 0.125 m (eighty elements over the wall's height) the five runs (the same backfill "
      "lengths) average {} m, {} % from the 0.25 m grid's five (standard error {} %: less than "
@@ -2780,8 +2782,6 @@ def _h3_row(name: str) -> list[float]:
 
 # H3's four meshes of the glance table: the 0.5 m grid and unstructured mesh, then both at 0.25 m
 H3_GLANCE = ("h3", "h3_unstructured", "h3_size0.25", "h3_unstructured_size0.25")
-#: and the grid refined once more, to 0.125 m (five runs, H3_REFINED_LENGTHS)
-H3_FINEST = "h3_size0.125"
 
 
 def _glance_h2_collapse() -> list[float]:
@@ -2882,8 +2882,8 @@ def _h3_finest() -> list[float]:
     mid = _h3_runouts("h3_size0.25", H3_REFINED_LENGTHS)
     mean, change, se = _h3_mean_change(mid, fine)
     coarse = _h3_runouts("h3")
-    from_coarse = pct(mean, statistics.mean(coarse))
-    means = [statistics.mean(r) for r in (coarse, mid, fine)]
+    means = [statistics.mean(coarse), statistics.mean(mid), mean]
+    from_coarse = pct(mean, means[0])
     wedges = [d["wedge_angle_deg"] for d in runs]
     if not (100.0 * _rel_spread(means) <= 10.0 and abs(change) < se):
         return []
